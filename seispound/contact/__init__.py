@@ -1,0 +1,29 @@
+"""Contact-force laws: LVe, MLVe, NIVe, Hd, LHC (seed paper) plus Hertz and classic Hertzdamp."""
+
+from .laws import (
+    ContactLaw,
+    Hertz,
+    Hertzdamp,
+    LinearHuntCrossley,
+    LinearViscoelastic,
+    ModifiedLinearViscoelastic,
+    NonlinearViscoelastic,
+    UpdatedHertzdamp,
+    lve_damping_ratio,
+    mlve_damping_ratio,
+    nive_damping_ratio,
+)
+from .registry import get_law, law_names, make_law, register
+
+LVe = LinearViscoelastic
+MLVe = ModifiedLinearViscoelastic
+NIVe = NonlinearViscoelastic
+Hd = UpdatedHertzdamp
+LHC = LinearHuntCrossley
+
+__all__ = [
+    "ContactLaw", "Hertz", "Hertzdamp", "LinearHuntCrossley", "LinearViscoelastic",
+    "ModifiedLinearViscoelastic", "NonlinearViscoelastic", "UpdatedHertzdamp",
+    "LVe", "MLVe", "NIVe", "Hd", "LHC", "get_law", "law_names", "make_law", "register",
+    "lve_damping_ratio", "mlve_damping_ratio", "nive_damping_ratio",
+]

@@ -1,0 +1,238 @@
+"""Scalar contact-force functions compiled with numba.
+
+These are the only implementation of the force laws: the integrator kernel calls
+them inside its time loop and the Python law classes call the same compiled
+functions, so what a user evaluates is exactly what the kernel integrates.
+
+Conventions (every law): penetration ``delta`` [m] is positive in contact,
+``rate`` = d(delta)/dt [m/s] is positive while the bodies approach, the force
+[N] is positive in compression.  ``par`` is one row of the per-gap parameter
+table whose columns are named by the ``P_*`` constants below.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+# Integer law codes: the kernel dispatches on these so that numba's on-disk
+# cache is shared across processes (no first-class functions in the loop).
+NONE = 0
+LVE = 1
+MLVE = 2
+NIVE = 3
+HD = 4
+LHC = 5
+HERTZ = 6
+HERTZDAMP = 7
+
+# Columns of the per-gap parameter table ``gap_par``.
+P_K = 0  # contact stiffness k [N/m] (linear laws) or [N/m^1.5] (Hertz laws)
+P_E = 1  # target coefficient of restitution e [-]
+P_XI = 2  # damping ratio from e (LVe Eq. 3, MLVe Eq. 5, NIVe xi-bar) [-]
+P_MEFF = 3  # m1*m2/(m1+m2) of the two colliding floors [kg]
+P_TENSION = 4  # 1.0 if the force may become tensile, else clamp F >= 0
+P_EXPONENT = 5  # exponent n of delta in the elastic term [-]
+N_PAR = 6
+
+
+@njit(cache=True)
+def hunt_crossley_s(e):
+    """Nontrivial root s = zeta*v0/k of the exact Hunt-Crossley relation (seed Eq. 8).
+
+    With x = k / (zeta * v0) = 1/s, Eq. 8 reads ``(1 + e) = x ln|(x + 1)/(x - e)|``.
+    s = 0 is always a (trivial, elastic) root; the physical root lies on the
+    branch 0 < s < 1/e, i.e. k - zeta*e*v0 > 0, on which k + zeta*rate stays
+    positive for the whole impact (the force never becomes tensile).  That
+    branch has exactly one root for every 0 < e < 1; e = 1 gives s = 0.
+
+    Solved in t = -ln(1 - e*s) in (0, inf), where the equation
+    ``t = (1 + e) s - ln(1 + s)`` stays well conditioned even for small e (the
+    root then approaches the branch point 1/e exponentially closely).
+
+    Parameters
+    ----------
+    e : float
+        Coefficient of restitution, 0 < e <= 1.
+
+    Returns
+    -------
+    float
+        s = zeta * v0 / k (dimensionless); zeta = k * s / v0.
+    """
+    if e >= 1.0:
+        return 0.0
+    # G(t) = t - (1+e) s(t) + ln(1 + s(t)) with s(t) = (1 - exp(-t)) / e.
+    # G < 0 between the trivial root 0 and the physical root, G > 0 beyond.
+    hi = (1.0 + e) / e + 1.0
+    lo = 0.5 * hi
+    for _ in range(200):
+        s = -math.expm1(-lo) / e
+        if lo - (1.0 + e) * s + math.log1p(s) < 0.0:
+            break
+        lo *= 0.5
+    t = hi
+    for _ in range(200):
+        s = -math.expm1(-t) / e
+        g = t - (1.0 + e) * s + math.log1p(s)
+        if g > 0.0:
+            hi = t
+        else:
+            lo = t
+        ds = math.exp(-t) / e
+        dg = 1.0 - ((1.0 + e) - 1.0 / (1.0 + s)) * ds
+        tn = t - g / dg if dg > 0.0 else 0.5 * (lo + hi)
+        if not (lo < tn < hi):
+            tn = 0.5 * (lo + hi)
+        if abs(tn - t) <= 1e-15 * t:
+            t = tn
+            break
+        t = tn
+    return -math.expm1(-t) / e
+
+
+@njit(cache=True)
+def onset_damping(code, par, v0):
+    """Damping parameter fixed at the onset of an impact from its approach velocity.
+
+    Parameters
+    ----------
+    code : int
+        Law code.
+    par : ndarray, shape (N_PAR,)
+        Gap parameter row.
+    v0 : float
+        Approach velocity d(delta)/dt at the instant of contact [m/s], > 0.
+
+    Returns
+    -------
+    float
+        zeta [N s/m^(n+1)] for Hd, LHC (exact, seed Eq. 8, solved here at every
+        impact) and classic Hertzdamp (zeta = 3 k (1 - e^2) / (4 v0),
+        Muthukumar & DesRoches 2006, Eq. 13); the constant damping coefficient
+        c = 2 xi sqrt(k m_eff) [N s/m] for LVe and MLVe (seed Eq. 2); the
+        damping ratio xi-bar [-] for NIVe (Jankowski 2005); 0 otherwise.
+    """
+    k = par[P_K]
+    if code == HD or code == LHC:
+        if v0 <= 0.0:
+            return 0.0
+        return k * hunt_crossley_s(par[P_E]) / v0
+    if code == HERTZDAMP:
+        if v0 <= 0.0:
+            return 0.0
+        e = par[P_E]
+        return 0.75 * k * (1.0 - e * e) / v0
+    if code == LVE or code == MLVE:
+        return 2.0 * par[P_XI] * math.sqrt(k * par[P_MEFF])
+    if code == NIVE:
+        return par[P_XI]
+    return 0.0
+
+
+@njit(cache=True)
+def contact_force(code, par, delta, rate, zeta):
+    """Contact force and its partial derivatives for one gap.
+
+    Parameters
+    ----------
+    code : int
+        Law code (``LVE`` ... ``HERTZDAMP``).
+    par : ndarray, shape (N_PAR,)
+        Gap parameter row.
+    delta : float
+        Penetration [m], positive in contact.  Slightly negative values occur
+        only inside a step that ends an impact; power laws use max(delta, 0)
+        and linear laws extend continuously.
+    rate : float
+        d(delta)/dt [m/s], positive on approach.
+    zeta : float
+        Value returned by :func:`onset_damping` for this impact.
+
+    Returns
+    -------
+    F, dF_ddelta, dF_drate : float
+        Force [N] (compression positive) and its partials [N/m], [N s/m].
+        For NIVe the derivative of c-bar with respect to delta (singular at
+        delta = 0) is left out of dF_ddelta: the Newton iteration then is a
+        quasi-Newton, its residual test is unchanged.
+
+    Notes
+    -----
+    Seed paper (Khatiwada & Chouw, "An experimental study on pounding force
+    between reinforced concrete slabs"), Section 2:
+
+    * LVe, Eq. 1:  F = k delta + c rate  (Anagnostopoulos 1988)
+    * MLVe, Eq. 4: F = k delta + c rate if rate >= 0 else k delta (Mahmoud 2008)
+    * NIVe, Eq. 6: F = k delta^1.5 + c-bar rate if rate >= 0 else k delta^1.5,
+      c-bar = 2 xi-bar sqrt(k sqrt(delta) m1 m2 / (m1 + m2)) (Jankowski 2005)
+    * Hd, Eq. 7:   F = k delta^1.5 + zeta delta^1.5 rate
+    * LHC, Eq. 9:  F = k delta + zeta delta rate
+    * Hertz:       F = k delta^1.5
+    * Hertzdamp:   F = k delta^1.5 + zeta delta^1.5 rate (Muthukumar & DesRoches 2006)
+    """
+    k = par[P_K]
+    F = 0.0
+    dFd = 0.0
+    dFv = 0.0
+    if code == LVE:
+        F = k * delta + zeta * rate
+        dFd = k
+        dFv = zeta
+    elif code == MLVE:
+        F = k * delta
+        dFd = k
+        if rate >= 0.0:
+            F += zeta * rate
+            dFv = zeta
+    elif code == LHC:
+        d = max(delta, 0.0)
+        F = d * (k + zeta * rate)
+        dFd = (k + zeta * rate) if delta > 0.0 else 0.0
+        dFv = zeta * d
+    else:
+        d = max(delta, 0.0)
+        n = par[P_EXPONENT]
+        dn = d**n
+        dn1 = n * d ** (n - 1.0) if d > 0.0 else 0.0
+        if code == HERTZ:
+            F = k * dn
+            dFd = k * dn1
+        elif code == HD or code == HERTZDAMP:
+            F = dn * (k + zeta * rate)
+            dFd = dn1 * (k + zeta * rate)
+            dFv = zeta * dn
+        elif code == NIVE:
+            F = k * dn
+            dFd = k * dn1
+            if rate >= 0.0:
+                cbar = 2.0 * zeta * math.sqrt(k * math.sqrt(d) * par[P_MEFF])
+                F += cbar * rate
+                dFv = cbar
+    if par[P_TENSION] == 0.0 and F < 0.0:
+        return 0.0, 0.0, 0.0
+    return F, dFd, dFv
+
+
+@njit(cache=True)
+def contact_duration(code, par, v0):
+    """Estimate of an impact's duration [s], used only to size contact substeps.
+
+    Linear laws: half the undamped contact period, pi sqrt(m_eff / k).
+    Power laws (exponent n): the Hertz closed form for the elastic impact,
+    t_c = C_n * delta_max / v0 with delta_max = ((n + 1) m_eff v0^2 / (2 k))^(1/(n+1))
+    and C_n = 2 sqrt(pi) Gamma(1/(n+1)) / ((n+1) Gamma(1/(n+1) + 1/2))
+    (Johnson, Contact Mechanics, 1985, Sec. 11.4; C_1.5 = 2.94).
+    """
+    k = par[P_K]
+    m = par[P_MEFF]
+    n = par[P_EXPONENT]
+    if n == 1.0:
+        return math.pi * math.sqrt(m / k)
+    v = max(v0, 1e-6)
+    dmax = ((n + 1.0) * m * v * v / (2.0 * k)) ** (1.0 / (n + 1.0))
+    a = 1.0 / (n + 1.0)
+    cn = 2.0 * math.sqrt(math.pi) * math.gamma(a) / ((n + 1.0) * math.gamma(a + 0.5))
+    return cn * dmax / v

@@ -1,0 +1,591 @@
+"""Newmark-beta time loop with event-located contact, compiled with numba.
+
+Private: call :func:`seispound.integrate.integrate`, which validates inputs and
+allocates the outputs.  Everything here takes arrays and scalars only.
+
+Method
+------
+Newmark-beta in total form (Newmark 1959; Chopra, Dynamics of Structures,
+Sec. 5.4 and Table 5.7.2 for the nonlinear Newton-Raphson version): at every
+step the residual
+
+    R(u1) = p1 - M a1(u1) - C v1(u1) - K u1 - B f_c(u1, v1)
+
+is driven to zero by Newton iterations on the effective tangent
+K_hat + sum_g kt_g b_g b_g^T.  K_hat = K + gamma/(beta h) C + 1/(beta h^2) M is
+banded (shear buildings: tridiagonal) and factored once per step size by a
+banded Cholesky; the rank-one contact terms of the active gaps are added by
+the Sherman-Morrison-Woodbury identity, so a step costs O(n * bandwidth) plus
+O(m^3) for m gaps in contact.
+
+Contact events: the set of gaps in contact is frozen during a step.  After a
+step, a gap that opened or closed inside it (sign change of the penetration,
+or a grazing excursion seen by the cubic Hermite interpolant of delta) makes
+the step be redone up to the event time, found as the first root of that
+interpolant; repeated until the step ends on the event within 1e-7 of the
+step's travel.  While any gap is closed the step is cut into substeps of
+1/n_sub of the impact duration estimated at onset (``contact_duration``), so
+the contact is resolved independently of the analysis step.  At each event
+the acceleration is recomputed from equilibrium, because the contact force may
+jump there (LVe's dashpot).
+
+Energy (relative frame; Uang & Bertero 1990) is accumulated with the
+trapezoidal work 0.5 (f0 + f1) . (u1 - u0), which for the average-acceleration
+method balances exactly: input = kinetic + strain + damping + contact.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..contact._scalar import NONE, contact_duration, contact_force, onset_damping
+
+# status codes returned by the kernel
+OK = 0
+NEWTON_FAILED = 1
+IMPACT_CAPACITY = 2
+
+# columns of the energy output
+E_INPUT, E_KINETIC, E_STRAIN, E_DAMPING, E_CONTACT = 0, 1, 2, 3, 4
+
+# entries of the stats output
+S_STEPS, S_ITERATIONS, S_REJECTED, S_FACTORIZATIONS, S_MAX_ITER = 0, 1, 2, 3, 4
+
+
+@njit(cache=True)
+def _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L):
+    """Banded Cholesky of K_hat(h) into L[i, d] = L(i, i - d); False if not positive definite."""
+    n = mass.size
+    cm = 1.0 / (beta * h * h)
+    cc = gamma / (beta * h)
+    for i in range(n):
+        for d in range(p + 1):
+            L[i, d] = 0.0
+        L[i, 0] = mass[i] * (cm + cc * dof_a0[i])
+    for e in range(el_i.size):
+        kk = el_k[e] * (1.0 + cc * el_a1[e])
+        i = el_i[e]
+        j = el_j[e]
+        L[i, 0] += kk
+        if j >= 0:
+            L[j, 0] += kk
+            if i > j:
+                L[i, i - j] -= kk
+            else:
+                L[j, j - i] -= kk
+    # in place: A is read from L's lower band before it is overwritten
+    for j in range(n):
+        s = L[j, 0]
+        for k in range(max(0, j - p), j):
+            s -= L[j, j - k] * L[j, j - k]
+        if s <= 0.0:
+            return False
+        L[j, 0] = math.sqrt(s)
+        for i in range(j + 1, min(n, j + p + 1)):
+            s = L[i, i - j]
+            for k in range(max(0, i - p), j):
+                s -= L[i, i - k] * L[j, j - k]
+            L[i, i - j] = s / L[j, 0]
+    return True
+
+
+@njit(cache=True)
+def _solve(L, p, b, x):
+    """x = K_hat^-1 b with the banded Cholesky factor L (x may alias nothing)."""
+    n = b.size
+    for i in range(n):
+        s = b[i]
+        for k in range(max(0, i - p), i):
+            s -= L[i, i - k] * x[k]
+        x[i] = s / L[i, 0]
+    for i in range(n - 1, -1, -1):
+        s = x[i]
+        for k in range(i + 1, min(n, i + p + 1)):
+            s -= L[k, k - i] * x[k]
+        x[i] = s / L[i, 0]
+
+
+@njit(cache=True)
+def _dense_solve(m, A, b):
+    """Solve the small m x m system A y = b in place (partial pivoting); b becomes y."""
+    for c in range(m):
+        piv = c
+        for r in range(c + 1, m):
+            if abs(A[r, c]) > abs(A[piv, c]):
+                piv = r
+        if piv != c:
+            for k in range(m):
+                tmp = A[c, k]
+                A[c, k] = A[piv, k]
+                A[piv, k] = tmp
+            tmp = b[c]
+            b[c] = b[piv]
+            b[piv] = tmp
+        for r in range(c + 1, m):
+            f = A[r, c] / A[c, c]
+            for k in range(c, m):
+                A[r, k] -= f * A[c, k]
+            b[r] -= f * b[c]
+    for c in range(m - 1, -1, -1):
+        s = b[c]
+        for k in range(c + 1, m):
+            s -= A[c, k] * b[k]
+        b[c] = s / A[c, c]
+
+
+@njit(cache=True)
+def _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd):
+    """Storey-spring forces fs = K u [N] and Rayleigh damping forces fd = C v [N]."""
+    for i in range(mass.size):
+        fs[i] = 0.0
+        fd[i] = dof_a0[i] * mass[i] * v[i]
+    for e in range(el_i.size):
+        i = el_i[e]
+        j = el_j[e]
+        du = u[i]
+        dv = v[i]
+        if j >= 0:
+            du -= u[j]
+            dv -= v[j]
+        f = el_k[e] * du
+        c = el_a1[e] * el_k[e] * dv
+        fs[i] += f
+        fd[i] += c
+        if j >= 0:
+            fs[j] -= f
+            fd[j] -= c
+
+
+@njit(cache=True)
+def _ground(ag, row, t, dt):
+    """Ground acceleration of motion ``row`` at time t [m/s^2], linear between samples."""
+    nt = ag.shape[1]
+    x = t / dt
+    k = int(math.floor(x))
+    if k >= nt - 1:
+        return ag[row, nt - 1]
+    if k < 0:
+        return ag[row, 0]
+    f = x - k
+    return (1.0 - f) * ag[row, k] + f * ag[row, k + 1]
+
+
+@njit(cache=True)
+def _hermite(s, d0, r0, d1, r1, h):
+    """Cubic Hermite interpolant of delta at fraction s of a step of size h."""
+    s2 = s * s
+    s3 = s2 * s
+    return ((2 * s3 - 3 * s2 + 1) * d0 + (s3 - 2 * s2 + s) * h * r0
+            + (-2 * s3 + 3 * s2) * d1 + (s3 - s2) * h * r1)
+
+
+@njit(cache=True)
+def _first_crossing(d0, r0, d1, r1, h, closing, tol):
+    """Fraction in (0, 1] of the first crossing of delta = 0 inside a step, or 2.0 if none.
+
+    ``closing``: look for delta rising above +tol (onset); else falling below -tol (end).
+    """
+    sgn = 1.0 if closing else -1.0
+    nsamp = 16
+    prev = 0.0
+    for k in range(1, nsamp + 1):
+        s = k / nsamp
+        val = sgn * _hermite(s, d0, r0, d1, r1, h)
+        if val > tol:
+            lo = prev
+            hi = s
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                if sgn * _hermite(mid, d0, r0, d1, r1, h) > 0.0:
+                    hi = mid
+                else:
+                    lo = mid
+            return hi
+        prev = s
+    return 2.0
+
+
+@njit(cache=True)
+def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
+                     u_init, v_init, gap_i, gap_j, gap_size, gap_law, gap_par,
+                     ag, dt, nsteps, beta, gamma, n_sub, rtol, max_iter,
+                     out_u, out_v, out_a, out_f, out_e, umax, fmax,
+                     imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta,
+                     stats):
+    """Integrate the row of buildings; fill the output arrays; return (status, n_impacts, t_reached).
+
+    Shapes: n DOFs, ne elements, ng gaps, nm base motions, nt = nsteps + 1.
+    mass, dof_a0, dof_motion, u_init, v_init : (n,); el_* : (ne,); gap_* : (ng,),
+    gap_par : (ng, N_PAR); ag : (nm, nt) [m/s^2]; out_u, out_v, out_a : (nt, n);
+    out_f : (nt, ng); out_e : (nt, 5); umax : (n,); fmax : (ng,);
+    imp_* : (capacity,); stats : (5,) int64.
+    """
+    n = mass.size
+    ng = gap_size.size
+    cap = imp_gap.size
+    # -- work arrays (allocated once; the loop allocates nothing) ------------
+    L_dt = np.empty((n, p + 1))
+    L_h = np.empty((n, p + 1))
+    u = u_init.copy()
+    v = v_init.copy()
+    a = np.empty(n)
+    u1 = np.empty(n)
+    v1 = np.empty(n)
+    a1 = np.empty(n)
+    fs = np.empty(n)
+    fd = np.empty(n)
+    fs1 = np.empty(n)
+    fd1 = np.empty(n)
+    R = np.empty(n)
+    z = np.empty(n)
+    Av = np.empty(n)
+    Vv = np.empty(n)
+    W = np.empty((max(ng, 1), n))
+    Sm = np.empty((max(ng, 1), max(ng, 1)))
+    ym = np.empty(max(ng, 1))
+    act_list = np.empty(max(ng, 1), np.int64)
+    active = np.zeros(ng, np.bool_)
+    zeta = np.zeros(ng)
+    hsub = np.zeros(ng)
+    cur_imp = -np.ones(ng, np.int64)
+    F = np.zeros(ng)  # force in equilibrium with the current state
+    F1 = np.zeros(ng)
+    kt = np.zeros(ng)
+    d0 = np.empty(ng)
+    r0 = np.empty(ng)
+    for s in range(stats.size):
+        stats[s] = 0
+    n_imp = 0
+    status = OK
+
+    if not _factor(dt, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_dt):
+        return NEWTON_FAILED, 0, 0.0
+    stats[S_FACTORIZATIONS] += 1
+    h_cached = -1.0
+
+    # -- initial state: gaps already closing at t = 0 (touching bodies) ------
+    t = 0.0
+    for g in range(ng):
+        if gap_law[g] == NONE:
+            continue
+        dg = u[gap_i[g]] - u[gap_j[g]] - gap_size[g]
+        rg = v[gap_i[g]] - v[gap_j[g]]
+        if dg > 0.0 or (dg == 0.0 and rg > 0.0):
+            if n_imp >= cap:
+                return IMPACT_CAPACITY, n_imp, t
+            active[g] = True
+            zeta[g] = onset_damping(gap_law[g], gap_par[g], rg)
+            hsub[g] = contact_duration(gap_law[g], gap_par[g], rg) / n_sub
+            cur_imp[g] = n_imp
+            imp_gap[n_imp] = g
+            imp_t0[n_imp] = t
+            imp_v0[n_imp] = rg
+            imp_zeta[n_imp] = zeta[g]
+            imp_fmax[n_imp] = 0.0
+            imp_dur[n_imp] = np.nan
+            imp_vout[n_imp] = np.nan
+            n_imp += 1
+    _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd)
+    for i in range(n):
+        a[i] = -_ground(ag, dof_motion[i], t, dt) - (fs[i] + fd[i]) / mass[i]
+    for g in range(ng):
+        F[g] = 0.0
+        if active[g]:
+            dg = u[gap_i[g]] - u[gap_j[g]] - gap_size[g]
+            rg = v[gap_i[g]] - v[gap_j[g]]
+            F[g] = contact_force(gap_law[g], gap_par[g], dg, rg, zeta[g])[0]
+            a[gap_i[g]] -= F[g] / mass[gap_i[g]]
+            a[gap_j[g]] += F[g] / mass[gap_j[g]]
+    e_in = 0.0
+    e_damp = 0.0
+    e_cont = 0.0
+    for i in range(n):
+        out_u[0, i] = u[i]
+        out_v[0, i] = v[i]
+        out_a[0, i] = a[i] + _ground(ag, dof_motion[i], t, dt)
+        umax[i] = abs(u[i])
+    for g in range(ng):
+        out_f[0, g] = F[g]
+        fmax[g] = F[g]
+    ek = 0.0
+    es = 0.0
+    for i in range(n):
+        ek += 0.5 * mass[i] * v[i] * v[i]
+        es += 0.5 * fs[i] * u[i]
+    out_e[0, E_INPUT] = ek + es  # initial energy counts as input
+    out_e[0, E_KINETIC] = ek
+    out_e[0, E_STRAIN] = es
+    out_e[0, E_DAMPING] = 0.0
+    out_e[0, E_CONTACT] = 0.0
+    e_in = ek + es
+
+    hmin = 1e-12 * dt
+    for step in range(nsteps):
+        t_end = (step + 1) * dt
+        while t_end - t > 1e-12 * dt:
+            remaining = t_end - t
+            h_nom = remaining
+            any_active = False
+            for g in range(ng):
+                if active[g]:
+                    any_active = True
+                    if hsub[g] < h_nom:
+                        h_nom = hsub[g]
+            if any_active and h_nom < remaining:
+                nsplit = math.ceil(remaining / h_nom - 1e-9)
+                h_nom = remaining / nsplit
+            # gap state at the start of the step
+            for g in range(ng):
+                d0[g] = u[gap_i[g]] - u[gap_j[g]] - gap_size[g]
+                r0[g] = v[gap_i[g]] - v[gap_j[g]]
+            m_act = 0
+            for g in range(ng):
+                if active[g]:
+                    act_list[m_act] = g
+                    m_act += 1
+            h = h_nom
+            target = -1
+            landed = False
+            toggle_now = -1
+            converged = False
+            located = False
+            for attempt in range(200):
+                # ---- factor K_hat(h) (cached for dt and for the last other h)
+                if abs(h - dt) <= 1e-14 * dt:
+                    Lf = L_dt
+                else:
+                    if abs(h - h_cached) > 1e-14 * h:
+                        if not _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_h):
+                            return NEWTON_FAILED, n_imp, t
+                        stats[S_FACTORIZATIONS] += 1
+                        h_cached = h
+                    Lf = L_h
+                cm = 1.0 / (beta * h * h)
+                cc = gamma / (beta * h)
+                # Newmark: a1 = cm du + Av, v1 = cc du + Vv with du = u1 - u
+                for i in range(n):
+                    Av[i] = -v[i] / (beta * h) - (0.5 / beta - 1.0) * a[i]
+                    Vv[i] = (1.0 - gamma / beta) * v[i] + h * (1.0 - 0.5 * gamma / beta) * a[i]
+                t1 = t + h
+                if m_act == 0:
+                    # linear step: one exact solve from du = 0
+                    _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, Vv, fs1, fd1)
+                    for i in range(n):
+                        R[i] = (-mass[i] * _ground(ag, dof_motion[i], t1, dt)
+                                - mass[i] * Av[i] - fd1[i] - fs1[i])
+                    _solve(Lf, p, R, z)
+                    for i in range(n):
+                        u1[i] = u[i] + z[i]
+                        v1[i] = Vv[i] + cc * z[i]
+                        a1[i] = Av[i] + cm * z[i]
+                    _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u1, v1, fs1, fd1)
+                    for g in range(ng):
+                        F1[g] = 0.0
+                    stats[S_ITERATIONS] += 1
+                    converged = True
+                else:
+                    # Woodbury columns W[a] = K_hat^-1 b_a for the active gaps
+                    for q in range(m_act):
+                        g = act_list[q]
+                        for i in range(n):
+                            R[i] = 0.0
+                        R[gap_i[g]] = 1.0
+                        R[gap_j[g]] = -1.0
+                        _solve(Lf, p, R, W[q])
+                    for i in range(n):
+                        u1[i] = u[i] + h * v[i] + 0.5 * h * h * a[i]
+                    converged = False
+                    it = 0
+                    dumax = np.inf
+                    umag = 0.0
+                    while True:
+                        for i in range(n):
+                            du = u1[i] - u[i]
+                            a1[i] = cm * du + Av[i]
+                            v1[i] = cc * du + Vv[i]
+                        _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u1, v1, fs1, fd1)
+                        scale = 0.0
+                        for i in range(n):
+                            pi = -mass[i] * _ground(ag, dof_motion[i], t1, dt)
+                            ma = mass[i] * a1[i]
+                            R[i] = pi - ma - fd1[i] - fs1[i]
+                            scale = max(scale, abs(pi), abs(ma), abs(fs1[i]), abs(fd1[i]))
+                        for q in range(m_act):
+                            g = act_list[q]
+                            ii = gap_i[g]
+                            jj = gap_j[g]
+                            Fg, dFd, dFv = contact_force(gap_law[g], gap_par[g],
+                                                         u1[ii] - u1[jj] - gap_size[g],
+                                                         v1[ii] - v1[jj], zeta[g])
+                            F1[g] = Fg
+                            kt[g] = dFd + cc * dFv
+                            R[ii] -= Fg
+                            R[jj] += Fg
+                            scale = max(scale, abs(Fg))
+                        rn = 0.0
+                        for i in range(n):
+                            rn = max(rn, abs(R[i]))
+                        if rn <= rtol * scale or (it > 0 and dumax <= 1e-15 * (umag + 1e-3)):
+                            converged = True
+                            break
+                        if it >= max_iter:
+                            break
+                        it += 1
+                        stats[S_ITERATIONS] += 1
+                        # du = z - W^T y, (I + D B^T W) y = D B^T z
+                        _solve(Lf, p, R, z)
+                        for q in range(m_act):
+                            g = act_list[q]
+                            ym[q] = kt[g] * (z[gap_i[g]] - z[gap_j[g]])
+                            for r in range(m_act):
+                                Sm[q, r] = kt[g] * (W[r, gap_i[g]] - W[r, gap_j[g]])
+                            Sm[q, q] += 1.0
+                        _dense_solve(m_act, Sm, ym)
+                        dumax = 0.0
+                        umag = 0.0
+                        for i in range(n):
+                            dui = z[i]
+                            for q in range(m_act):
+                                dui -= W[q, i] * ym[q]
+                            u1[i] += dui
+                            dumax = max(dumax, abs(dui))
+                            umag = max(umag, abs(u1[i]))
+                    if it > stats[S_MAX_ITER]:
+                        stats[S_MAX_ITER] = it
+                if not converged:
+                    stats[S_REJECTED] += 1
+                    h *= 0.25
+                    target = -1
+                    if h < hmin:
+                        return NEWTON_FAILED, n_imp, t
+                    continue
+                # ---- events inside the step? --------------------------------
+                landed = False
+                if target >= 0:
+                    dt_g = u1[gap_i[target]] - u1[gap_j[target]] - gap_size[target]
+                    rt_g = v1[gap_i[target]] - v1[gap_j[target]]
+                    tol_t = 1e-7 * max(abs(rt_g), abs(r0[target])) * h + 1e-15
+                    landed = abs(dt_g) <= tol_t
+                theta = 2.0
+                g_ev = -1
+                for g in range(ng):
+                    if gap_law[g] == NONE or (landed and g == target):
+                        continue
+                    d1 = u1[gap_i[g]] - u1[gap_j[g]] - gap_size[g]
+                    r1 = v1[gap_i[g]] - v1[gap_j[g]]
+                    tol = 1e-7 * max(abs(r0[g]), abs(r1)) * h + 1e-15
+                    th = 2.0
+                    if not active[g]:
+                        # also a grazing touch that opens again within the step
+                        if d1 > tol or (r0[g] > 0.0 and r1 < 0.0 and d0[g] + r0[g] * h > -tol):
+                            th = _first_crossing(d0[g], r0[g], d1, r1, h, True, tol)
+                    elif d1 < -tol:
+                        th = _first_crossing(d0[g], r0[g], d1, r1, h, False, tol)
+                    if th < theta:
+                        theta = th
+                        g_ev = g
+                if g_ev < 0:
+                    located = True
+                    break
+                stats[S_REJECTED] += 1
+                if theta * h < hmin:
+                    toggle_now = g_ev
+                    located = True
+                    break
+                h = theta * h
+                target = g_ev
+            if not located:
+                return NEWTON_FAILED, n_imp, t
+            if toggle_now >= 0:
+                # the event is at the current time: switch status without moving
+                g = toggle_now
+            else:
+                # ---- accept the step: energy, state, peaks ---------------------
+                stats[S_STEPS] += 1
+                t0 = t
+                for i in range(n):
+                    du = u1[i] - u[i]
+                    pg0 = -mass[i] * _ground(ag, dof_motion[i], t0, dt)
+                    pg1 = -mass[i] * _ground(ag, dof_motion[i], t0 + h, dt)
+                    e_in += 0.5 * (pg0 + pg1) * du
+                    e_damp += 0.5 * (fd[i] + fd1[i]) * du
+                for g in range(ng):
+                    if active[g] or F[g] != 0.0:
+                        dd = (u1[gap_i[g]] - u[gap_i[g]]) - (u1[gap_j[g]] - u[gap_j[g]])
+                        e_cont += 0.5 * (F[g] + F1[g]) * dd
+                for i in range(n):
+                    u[i] = u1[i]
+                    v[i] = v1[i]
+                    a[i] = a1[i]
+                    fs[i] = fs1[i]
+                    fd[i] = fd1[i]
+                    if abs(u[i]) > umax[i]:
+                        umax[i] = abs(u[i])
+                for g in range(ng):
+                    F[g] = F1[g]
+                    if active[g]:
+                        if F[g] > fmax[g]:
+                            fmax[g] = F[g]
+                        q = cur_imp[g]
+                        if F[g] > imp_fmax[q]:
+                            imp_fmax[q] = F[g]
+                t = t0 + h
+                g = target if landed else -1
+            if g >= 0:
+                # ---- switch gap g: onset or end of an impact --------------------
+                rg = v[gap_i[g]] - v[gap_j[g]]
+                if not active[g]:
+                    if n_imp >= cap:
+                        return IMPACT_CAPACITY, n_imp, t
+                    active[g] = True
+                    zeta[g] = onset_damping(gap_law[g], gap_par[g], rg)
+                    hsub[g] = contact_duration(gap_law[g], gap_par[g], rg) / n_sub
+                    cur_imp[g] = n_imp
+                    imp_gap[n_imp] = g
+                    imp_t0[n_imp] = t
+                    imp_v0[n_imp] = rg
+                    imp_zeta[n_imp] = zeta[g]
+                    imp_fmax[n_imp] = 0.0
+                    imp_dur[n_imp] = np.nan
+                    imp_vout[n_imp] = np.nan
+                    n_imp += 1
+                    dg = u[gap_i[g]] - u[gap_j[g]] - gap_size[g]
+                    F[g] = contact_force(gap_law[g], gap_par[g], dg, rg, zeta[g])[0]
+                    imp_fmax[n_imp - 1] = max(F[g], 0.0)
+                    if F[g] > fmax[g]:
+                        fmax[g] = F[g]
+                else:
+                    active[g] = False
+                    q = cur_imp[g]
+                    imp_dur[q] = t - imp_t0[q]
+                    imp_vout[q] = -rg
+                    cur_imp[g] = -1
+                    F[g] = 0.0
+                # the contact force may jump at an event: restore equilibrium
+                for i in range(n):
+                    a[i] = -_ground(ag, dof_motion[i], t, dt) - (fs[i] + fd[i]) / mass[i]
+                for q in range(ng):
+                    if F[q] != 0.0:
+                        a[gap_i[q]] -= F[q] / mass[gap_i[q]]
+                        a[gap_j[q]] += F[q] / mass[gap_j[q]]
+        # ---- output at the analysis step ---------------------------------------
+        k = step + 1
+        ek = 0.0
+        es = 0.0
+        for i in range(n):
+            out_u[k, i] = u[i]
+            out_v[k, i] = v[i]
+            out_a[k, i] = a[i] + _ground(ag, dof_motion[i], t, dt)
+            ek += 0.5 * mass[i] * v[i] * v[i]
+            es += 0.5 * fs[i] * u[i]
+        for g in range(ng):
+            out_f[k, g] = F[g]
+        out_e[k, E_INPUT] = e_in
+        out_e[k, E_KINETIC] = ek
+        out_e[k, E_STRAIN] = es
+        out_e[k, E_DAMPING] = e_damp
+        out_e[k, E_CONTACT] = e_cont
+    return status, n_imp, t

@@ -1,0 +1,171 @@
+"""Shear buildings: lumped floor masses, storey springs, Rayleigh damping."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.linalg import eigh
+
+from ..errors import InputError
+
+__all__ = ["Building", "RayleighDamping", "NoDamping"]
+
+
+@dataclass
+class RayleighDamping:
+    """Rayleigh damping C = a0 M + a1 K with ratio ``ratio`` in modes i and j (1-based).
+
+    a0 = 2 ratio w_i w_j / (w_i + w_j), a1 = 2 ratio / (w_i + w_j)
+    (Chopra, Dynamics of Structures, 4th ed., Eq. 11.4.9 with equal ratios).
+    i = j gives a0 = ratio w_i, a1 = ratio / w_i (the limit), which is how a
+    one-storey building gets the ratio in its only mode.
+    """
+
+    ratio: float = 0.05
+    modes: tuple = (1, 2)
+    kind: str = "rayleigh"
+
+
+@dataclass
+class NoDamping:
+    """No structural damping (pendulum impact tests)."""
+
+    kind: str = "none"
+    ratio: float = 0.0
+
+
+@dataclass
+class Building:
+    """A shear building: floors numbered 1..N from the ground up.
+
+    Parameters
+    ----------
+    name : str
+        Unique name in the row.
+    floor_masses : sequence of float, shape (N,)
+        Lumped mass of each floor [kg], > 0.
+    storey_stiffness : sequence of float, shape (N,)
+        Lateral stiffness of each storey [N/m], > 0; storey i joins floor i-1 (0 = ground) to floor i.
+    storey_heights : sequence of float, shape (N,)
+        Height of each storey [m], > 0.  Floor elevations are their cumulative sums.
+    damping : RayleighDamping or NoDamping
+    initial_velocity : float or sequence of float, shape (N,), optional
+        Floor velocities relative to the ground at t = 0 [m/s].
+    """
+
+    name: str
+    floor_masses: list
+    storey_stiffness: list
+    storey_heights: list
+    damping: object = field(default_factory=RayleighDamping)
+    initial_velocity: object = 0.0
+
+    def __post_init__(self):
+        self.validate()
+
+    # -- validation -----------------------------------------------------------
+    def validate(self, key: str | None = None) -> None:
+        """Check every field; InputError names ``building.<name>.<field>``."""
+        key = key or f"building.{self.name}"
+        if not isinstance(self.name, str) or not self.name.strip():
+            raise InputError("name must be a non-empty string", key=f"{key}.name")
+        arrays = {}
+        for fld in ("floor_masses", "storey_stiffness", "storey_heights"):
+            arr = _positive_vector(getattr(self, fld), f"{key}.{fld}")
+            arrays[fld] = arr
+        n = arrays["floor_masses"].size
+        for fld in ("storey_stiffness", "storey_heights"):
+            if arrays[fld].size != n:
+                raise InputError(f"has {arrays[fld].size} entries but floor_masses has {n}",
+                                 key=f"{key}.{fld}")
+        self.floor_masses = arrays["floor_masses"]
+        self.storey_stiffness = arrays["storey_stiffness"]
+        self.storey_heights = arrays["storey_heights"]
+        v0 = self.initial_velocity
+        try:
+            v = np.broadcast_to(np.asarray(v0, dtype=float), (n,)).copy()
+        except (TypeError, ValueError):
+            raise InputError(f"must be a number or a list of {n} numbers, got {v0!r}",
+                             key=f"{key}.initial_velocity") from None
+        if not np.all(np.isfinite(v)):
+            raise InputError("must be finite", key=f"{key}.initial_velocity")
+        self.initial_velocity = v
+        d = self.damping
+        if isinstance(d, RayleighDamping):
+            if not (isinstance(d.ratio, (int, float)) and 0.0 <= d.ratio < 1.0):
+                raise InputError(f"ratio must be in [0, 1), got {d.ratio!r}", key=f"{key}.damping.ratio")
+            modes = tuple(d.modes)
+            if len(modes) != 2 or not all(isinstance(m, int) and not isinstance(m, bool) for m in modes):
+                raise InputError(f"modes must be two integers [i, j], got {list(modes)!r}",
+                                 key=f"{key}.damping.modes")
+            if not all(1 <= m <= n for m in modes):
+                raise InputError(f"modes must lie in 1..{n} (the building has {n} modes), got {list(modes)}",
+                                 key=f"{key}.damping.modes")
+            d.modes = modes
+        elif not isinstance(d, NoDamping):
+            raise InputError("damping must be RayleighDamping or NoDamping", key=f"{key}.damping")
+
+    # -- properties -------------------------------------------------------------
+    @property
+    def n_floors(self) -> int:
+        return int(self.floor_masses.size)
+
+    @property
+    def floor_heights(self) -> np.ndarray:
+        """Elevation of each floor above the ground [m], shape (N,)."""
+        return np.cumsum(self.storey_heights)
+
+    def mass_matrix(self) -> np.ndarray:
+        """Diagonal mass matrix [kg], shape (N, N)."""
+        return np.diag(self.floor_masses)
+
+    def stiffness_matrix(self) -> np.ndarray:
+        """Tridiagonal shear-building stiffness matrix [N/m], shape (N, N) (Chopra Eq. 9.2.4)."""
+        k = self.storey_stiffness
+        n = k.size
+        K = np.zeros((n, n))
+        for i in range(n):
+            K[i, i] += k[i]
+            if i + 1 < n:
+                K[i, i] += k[i + 1]
+                K[i, i + 1] = K[i + 1, i] = -k[i + 1]
+        return K
+
+    def modes(self):
+        """Natural circular frequencies [rad/s], shape (N,), and mass-normalised mode shapes, shape (N, N)."""
+        w2, phi = eigh(self.stiffness_matrix(), self.mass_matrix())
+        return np.sqrt(w2), phi
+
+    @property
+    def periods(self) -> np.ndarray:
+        """Natural periods [s], shape (N,), longest first."""
+        return 2.0 * math.pi / self.modes()[0]
+
+    def rayleigh_coefficients(self) -> tuple[float, float]:
+        """(a0 [1/s], a1 [s]) of C = a0 M + a1 K."""
+        d = self.damping
+        if isinstance(d, NoDamping) or d.ratio == 0.0:
+            return 0.0, 0.0
+        w = self.modes()[0]
+        wi, wj = w[d.modes[0] - 1], w[d.modes[1] - 1]
+        return 2.0 * d.ratio * wi * wj / (wi + wj), 2.0 * d.ratio / (wi + wj)
+
+    def damping_matrix(self) -> np.ndarray:
+        a0, a1 = self.rayleigh_coefficients()
+        return a0 * self.mass_matrix() + a1 * self.stiffness_matrix()
+
+
+def _positive_vector(value, key) -> np.ndarray:
+    try:
+        arr = np.atleast_1d(np.asarray(value, dtype=float))
+    except (TypeError, ValueError):
+        raise InputError(f"must be a list of numbers, got {value!r}", key=key) from None
+    if arr.ndim != 1 or arr.size == 0:
+        raise InputError("must be a non-empty list of numbers", key=key)
+    bad = np.flatnonzero(~(np.isfinite(arr) & (arr > 0)))
+    if bad.size:
+        raise InputError(f"every entry must be a finite number > 0; entry {bad[0] + 1} is {arr[bad[0]]!r}",
+                         key=key)
+    return arr

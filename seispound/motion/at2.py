@@ -29,7 +29,6 @@ is installed, ``obspy.read("record.AT2")`` dispatches here through the
 
 from __future__ import annotations
 
-import io
 import math
 import os
 import re

@@ -24,7 +24,7 @@ class RayleighDamping:
     """
 
     ratio: float = 0.05
-    modes: tuple = (1, 2)
+    modes: tuple | None = None  # default (1, 2), or (1, 1) for a one-storey building
     kind: str = "rayleigh"
 
 
@@ -96,7 +96,7 @@ class Building:
         if isinstance(d, RayleighDamping):
             if not (isinstance(d.ratio, (int, float)) and 0.0 <= d.ratio < 1.0):
                 raise InputError(f"ratio must be in [0, 1), got {d.ratio!r}", key=f"{key}.damping.ratio")
-            modes = tuple(d.modes)
+            modes = (1, min(2, n)) if d.modes is None else tuple(d.modes)
             if len(modes) != 2 or not all(isinstance(m, int) and not isinstance(m, bool) for m in modes):
                 raise InputError(f"modes must be two integers [i, j], got {list(modes)!r}",
                                  key=f"{key}.damping.modes")

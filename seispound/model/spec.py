@@ -1,0 +1,90 @@
+"""The model: buildings, gaps, contact law, analysis settings and ground motion."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import InputError
+from ..integrate import Newmark
+
+__all__ = ["Analysis", "GroundMotionSpec", "Model"]
+
+
+@dataclass
+class Analysis:
+    """Analysis settings: step ``dt`` [s], ``duration`` [s], Newmark parameters."""
+
+    dt: float
+    duration: float
+    newmark: Newmark = field(default_factory=Newmark)
+
+    def validate(self, key: str = "analysis") -> None:
+        for name in ("dt", "duration"):
+            val = getattr(self, name)
+            if not isinstance(val, (int, float)) or isinstance(val, bool) or not math.isfinite(val) or val <= 0:
+                raise InputError(f"must be a finite number > 0, got {val!r}", key=f"{key}.{name}")
+        if self.duration < self.dt:
+            raise InputError(f"duration {self.duration} is shorter than dt {self.dt}", key=f"{key}.duration")
+        self.newmark.validate(f"{key}.newmark")
+
+    @property
+    def nsteps(self) -> int:
+        return int(round(self.duration / self.dt))
+
+
+@dataclass
+class GroundMotionSpec:
+    """Where the base motion comes from and how to read it.
+
+    Parameters
+    ----------
+    file : path
+        Record file (any format obspy reads, PEER .AT2 included).
+    trace : int or str
+        Trace index or id/channel/component to use.
+    units : str
+        "g", "m/s2", "cm/s2", "mm/s2", "counts" or "auto" (AT2 files state g).
+    scale : float
+        Factor applied to the record.
+    calibration : float, optional
+        m/s^2 per count when units = "counts".
+    baseline : int or None
+        Order of the least-squares polynomial removed (None: none; 0 mean; 1 linear).
+    """
+
+    file: Path
+    trace: object = 0
+    units: str = "auto"
+    scale: float = 1.0
+    calibration: float | None = None
+    baseline: int | None = None
+
+
+@dataclass
+class Model:
+    """A row of buildings, the gaps between them, a contact law and the loading.
+
+    ``buildings`` are ordered left to right.  ``ground_motion = None`` is a
+    free-vibration or impact test driven by initial velocities.
+    """
+
+    title: str
+    buildings: list
+    gaps: list
+    contact: object
+    analysis: Analysis
+    ground_motion: GroundMotionSpec | None = None
+    source: str | None = None  # path of the model file
+    text: str | None = None  # its text, stored in the results
+
+    def validate(self) -> None:
+        names = [b.name for b in self.buildings]
+        if not names:
+            raise InputError("a model needs at least one [[building]]", file=self.source, key="building")
+        dup = {n for n in names if names.count(n) > 1}
+        if dup:
+            raise InputError(f"building names must be unique; repeated: {', '.join(sorted(dup))}",
+                             file=self.source, key="building.name")
+        self.analysis.validate()

@@ -1,0 +1,242 @@
+"""Read a model from a TOML file, with one-line errors naming the file and the key."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+from ..contact import get_law
+from ..errors import InputError
+from ..integrate import Newmark
+from ..structure import Building, Gap, NoDamping, RayleighDamping, assemble
+from .spec import Analysis, GroundMotionSpec, Model
+
+__all__ = ["load_model", "parse_model"]
+
+_TOP = {"title", "description", "analysis", "ground_motion", "contact", "building", "gap"}
+_ANALYSIS = {"dt", "duration", "newmark", "contact_substeps", "rtol", "max_iter"}
+_NEWMARK = {"beta", "gamma"}
+_GROUND = {"file", "trace", "units", "scale", "calibration", "baseline"}
+_BUILDING = {"name", "floors", "floor_masses", "storey_stiffness", "storey_heights", "damping",
+             "initial_velocity"}
+_DAMPING = {"kind", "ratio", "modes"}
+_GAP = {"between", "size", "law", "stiffness", "restitution", "tension"}
+
+
+def load_model(path) -> Model:
+    """Read and validate a model file.
+
+    Parameters
+    ----------
+    path : str or Path
+        TOML model file; ``ground_motion.file`` is relative to it.
+
+    Returns
+    -------
+    Model
+
+    Raises
+    ------
+    InputError
+        ``FILE: KEY: what is wrong`` for every problem (missing file, TOML
+        syntax, unknown key, wrong type or value, inconsistent lengths ...).
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError("model file not found", file=path) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot read model file ({exc.__class__.__name__}: {exc})", file=path) from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"malformed TOML: {exc}", file=path, key="(syntax)") from None
+    try:
+        return parse_model(data, base=path.parent, source=str(path), text=text)
+    except InputError as err:
+        raise err.located(file=path) from None
+
+
+def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
+    """Build a :class:`Model` from the parsed TOML table ``data``."""
+    _check_keys(data, _TOP, "")
+    title = data.get("title", "untitled")
+    if not isinstance(title, str):
+        raise InputError("must be a string", key="title")
+
+    # -- analysis ----------------------------------------------------------------
+    an = _table(data, "analysis", required=True)
+    _check_keys(an, _ANALYSIS, "analysis")
+    nmk = an.get("newmark", {})
+    if not isinstance(nmk, dict):
+        raise InputError("must be a table {beta, gamma}", key="analysis.newmark")
+    _check_keys(nmk, _NEWMARK, "analysis.newmark")
+    newmark = Newmark(beta=nmk.get("beta", 0.25), gamma=nmk.get("gamma", 0.5),
+                      contact_substeps=an.get("contact_substeps", 64), rtol=an.get("rtol", 1e-10),
+                      max_iter=an.get("max_iter", 30))
+    for req in ("dt", "duration"):
+        if req not in an:
+            raise InputError("is required", key=f"analysis.{req}")
+    analysis = Analysis(dt=an["dt"], duration=an["duration"], newmark=newmark)
+    analysis.validate()
+
+    # -- ground motion (optional: free vibration / impact test) ----------------
+    gm = None
+    if "ground_motion" in data:
+        g = _table(data, "ground_motion")
+        _check_keys(g, _GROUND, "ground_motion")
+        if "file" not in g or not isinstance(g["file"], str) or not g["file"]:
+            raise InputError("is required (a record file relative to the model file)", key="ground_motion.file")
+        fpath = (Path(base) / g["file"]).resolve()
+        if not fpath.is_file():
+            raise InputError(f"record file not found: {fpath}", key="ground_motion.file")
+        trace = g.get("trace", 0)
+        if not isinstance(trace, (int, str)) or isinstance(trace, bool):
+            raise InputError(f"must be an index or a channel/id string, got {trace!r}", key="ground_motion.trace")
+        units = g.get("units", "auto")
+        if not isinstance(units, str):
+            raise InputError(f"must be a string, got {units!r}", key="ground_motion.units")
+        scale = g.get("scale", 1.0)
+        if not _number(scale) or not scale > 0:
+            raise InputError(f"must be a number > 0, got {scale!r}", key="ground_motion.scale")
+        cal = g.get("calibration")
+        if cal is not None and (not _number(cal) or not cal > 0):
+            raise InputError(f"must be a number > 0 (m/s^2 per count), got {cal!r}", key="ground_motion.calibration")
+        baseline = g.get("baseline", None)
+        if baseline is not None and (not isinstance(baseline, int) or isinstance(baseline, bool)
+                                     or not 0 <= baseline <= 3):
+            raise InputError(f"must be a polynomial order 0..3, got {baseline!r}", key="ground_motion.baseline")
+        gm = GroundMotionSpec(file=fpath, trace=trace, units=units, scale=float(scale), calibration=cal,
+                              baseline=baseline)
+
+    # -- contact law ---------------------------------------------------------------
+    law = None
+    if "contact" in data:
+        c = _table(data, "contact")
+        law = _make_law(c, "contact")
+
+    # -- buildings -------------------------------------------------------------------
+    blist = data.get("building")
+    if not isinstance(blist, list) or not blist:
+        raise InputError("at least one [[building]] table is required", key="building")
+    buildings = []
+    for idx, b in enumerate(blist):
+        if not isinstance(b, dict):
+            raise InputError("must be a table", key=f"building.{idx + 1}")
+        name = b.get("name")
+        key = f"building.{name}" if isinstance(name, str) and name else f"building.{idx + 1}"
+        _check_keys(b, _BUILDING, key)
+        if not isinstance(name, str) or not name.strip():
+            raise InputError("is required (a non-empty string)", key=f"{key}.name")
+        for req in ("floor_masses", "storey_stiffness", "storey_heights"):
+            if req not in b:
+                raise InputError("is required", key=f"{key}.{req}")
+        floors = b.get("floors")
+        fields = {}
+        for fld in ("floor_masses", "storey_stiffness", "storey_heights"):
+            val = b[fld]
+            if _number(val) and floors is not None:
+                if not isinstance(floors, int) or isinstance(floors, bool) or floors < 1:
+                    raise InputError(f"must be an integer >= 1, got {floors!r}", key=f"{key}.floors")
+                val = [val] * floors
+            elif isinstance(val, list) and floors is not None and len(val) != floors:
+                raise InputError(f"has {len(val)} entries but floors = {floors}", key=f"{key}.{fld}")
+            fields[fld] = val
+        damping = _damping(b.get("damping", {"kind": "rayleigh"}), f"{key}.damping")
+        buildings.append(Building(name=name, damping=damping,
+                                  initial_velocity=b.get("initial_velocity", 0.0), **fields))
+    # Building validates itself in __post_init__ with keys building.<name>.<field>
+
+    # -- gaps ----------------------------------------------------------------------------
+    gaps = []
+    for idx, gp in enumerate(data.get("gap", []) or []):
+        key = f"gap.{idx + 1}"
+        if not isinstance(gp, dict):
+            raise InputError("must be a table", key=key)
+        _check_keys(gp, _GAP, key)
+        for req in ("between", "size"):
+            if req not in gp:
+                raise InputError("is required", key=f"{key}.{req}")
+        own = {k: gp[k] for k in ("law", "stiffness", "restitution", "tension") if k in gp}
+        glaw = None
+        if own:
+            merged = {} if law is None else {"law": law.name, **law.get_params()}
+            merged = {k: v for k, v in merged.items() if v is not None}
+            merged.update(own)
+            glaw = _make_law(merged, key)
+        gaps.append(Gap(between=tuple(gp["between"]) if isinstance(gp["between"], list) else gp["between"],
+                        size=gp["size"], law=glaw))
+    if gaps and law is None and any(g.law is None for g in gaps):
+        raise InputError("a [contact] table (law, stiffness, restitution) is required when there are gaps",
+                         key="contact")
+    model = Model(title=title, buildings=buildings, gaps=gaps, contact=law, analysis=analysis,
+                  ground_motion=gm, source=source, text=text)
+    model.validate()
+    assemble(model.buildings, model.gaps, model.contact)  # checks gaps (neighbours, common levels, sizes)
+    return model
+
+
+# -- helpers ---------------------------------------------------------------------------
+def _number(x) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool)
+
+
+def _table(data, key, required=False) -> dict:
+    val = data.get(key)
+    if val is None:
+        if required:
+            raise InputError(f"a [{key}] table is required", key=key)
+        return {}
+    if not isinstance(val, dict):
+        raise InputError("must be a table", key=key)
+    return val
+
+
+def _check_keys(table: dict, allowed: set, where: str) -> None:
+    for k in table:
+        if k not in allowed:
+            full = f"{where}.{k}" if where else k
+            raise InputError(f"unknown key; allowed here: {', '.join(sorted(allowed))}", key=full)
+
+
+def _make_law(c: dict, key: str):
+    allowed = {"law", "stiffness", "restitution", "tension"}
+    _check_keys(c, allowed | ({"between", "size"} if key.startswith("gap") else set()), key)
+    if "law" not in c:
+        raise InputError("is required (one of the names listed by `seispound laws`)", key=f"{key}.law")
+    try:
+        cls = get_law(c["law"])
+    except InputError as err:
+        raise InputError(err.message, key=f"{key}.law") from None
+    if "stiffness" not in c:
+        raise InputError("is required", key=f"{key}.stiffness")
+    params = {k: c[k] for k in ("stiffness", "restitution", "tension") if k in c}
+    if "restitution" not in params and cls.name != "Hertz":
+        raise InputError("is required", key=f"{key}.restitution")
+    law = cls(**params)
+    law.validate(key=key)
+    return law
+
+
+def _damping(d, key):
+    if not isinstance(d, dict):
+        raise InputError('must be a table {kind = "rayleigh", ratio, modes}', key=key)
+    _check_keys(d, _DAMPING, key)
+    kind = d.get("kind", "rayleigh")
+    if kind == "none":
+        return NoDamping()
+    if kind != "rayleigh":
+        raise InputError(f'kind must be "rayleigh" or "none", got {kind!r}', key=f"{key}.kind")
+    ratio = d.get("ratio", 0.05)
+    if not _number(ratio):
+        raise InputError(f"must be a number, got {ratio!r}", key=f"{key}.ratio")
+    modes = d.get("modes")
+    if modes is not None and not isinstance(modes, list):
+        raise InputError(f"must be a list of two mode numbers, got {modes!r}", key=f"{key}.modes")
+    return RayleighDamping(ratio=float(ratio), modes=None if modes is None else tuple(modes))

@@ -1,0 +1,162 @@
+"""The result Dataset of one run: schema, units, provenance.
+
+Schema ``seispound-result`` version 1 (``ds.attrs["schema_version"]``)
+---------------------------------------------------------------------------
+Dimensions
+    time (nt), building (nb), floor (max floors; absent floors are NaN),
+    gap (one per gap element = pair of floors at a common level),
+    impact (one per impact, in order of onset), energy_component (5).
+Coordinates
+    time [s]; building (names, left to right); floor (1-based);
+    floor_height(building, floor) [m]; gap (0-based);
+    gap_left, gap_right (building names), gap_left_floor, gap_right_floor,
+    gap_height [m], gap_size [m], gap_law (name); energy_component names.
+Data variables (units in ``attrs["units"]``)
+    displacement(time, building, floor) [m], relative to the ground, +x to the right
+    velocity(time, building, floor) [m/s], relative to the ground
+    acceleration(time, building, floor) [m/s^2], absolute (ground + relative)
+    drift(time, building, floor) [m], u_floor - u_floor_below (ground for floor 1)
+    pounding_force(time, gap) [N], compression positive, at the analysis instants
+    peak_displacement(building, floor) [m], max |u| over every (sub)step
+    peak_displacement_no_pounding(building, floor) [m], same, gaps disabled
+    amplification(building, floor) [-], peak_displacement / peak_displacement_no_pounding
+    peak_drift(building, floor) [m], max |drift| at the analysis instants
+    peak_pounding_force(gap) [N], over every substep
+    impact_count(gap) [-]
+    impact_gap(impact), impact_onset(impact) [s], impact_approach_velocity(impact) [m/s],
+    impact_separation_velocity(impact) [m/s], impact_restitution(impact) [-],
+    impact_peak_force(impact) [N], impact_duration(impact) [s], impact_damping(impact)
+    ground_acceleration(time) [m/s^2]
+    energy(time, energy_component) [J]: input, kinetic, strain, damping, contact
+Attributes
+    schema, schema_version, title, seispound_version, created_utc, model_file,
+    model_text, record (JSON provenance; "none" for free vibration), contact_law,
+    dt, duration, newmark_beta, newmark_gamma, integrator_stats (JSON).
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+
+import numpy as np
+import xarray as xr
+
+SCHEMA = "seispound-result"
+SCHEMA_VERSION = 1
+
+ENERGY_COMPONENTS = ["input", "kinetic", "strain", "damping", "contact"]
+
+
+def _per_floor(values, system, nb, nfmax):
+    """Scatter DOF-indexed values (..., n) into (..., building, floor) with NaN padding."""
+    values = np.asarray(values)
+    out = np.full(values.shape[:-1] + (nb, nfmax), np.nan)
+    out[..., system.dof_building, system.dof_floor - 1] = values
+    return out
+
+
+def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, version) -> xr.Dataset:
+    """Assemble the result Dataset of one run (see the module docstring for the schema)."""
+    b_names = [b.name for b in model.buildings]
+    nb = len(b_names)
+    nfmax = max(b.n_floors for b in model.buildings)
+    heights = np.full((nb, nfmax), np.nan)
+    for i, b in enumerate(model.buildings):
+        heights[i, : b.n_floors] = b.floor_heights
+
+    u = _per_floor(raw.displacement, system, nb, nfmax)
+    below = np.concatenate([np.zeros(u.shape[:2] + (1,)), u[..., :-1]], axis=-1)
+    drift = u - below
+    peak = _per_floor(raw.peak_displacement, system, nb, nfmax)
+    peak0 = _per_floor(raw_twin.peak_displacement, system, nb, nfmax)
+    valid = ~np.isnan(peak0)  # floors that exist
+    peak_drift = np.where(valid, np.max(np.abs(np.nan_to_num(drift)), axis=0), np.nan)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        amp = np.where(peak0 > 0, peak / peak0, np.nan)
+
+    links = system.links
+    ng = len(links)
+    imp = raw.impacts
+    ni = imp["gap"].size
+    with np.errstate(divide="ignore", invalid="ignore"):
+        restitution = np.where(imp["v0"] > 0, imp["vout"] / imp["v0"], np.nan)
+    counts = np.bincount(imp["gap"], minlength=ng) if ng else np.zeros(0, int)
+
+    def var(dims, data, units, long_name, **extra):
+        return xr.Variable(dims, data, attrs={"units": units, "long_name": long_name, **extra})
+
+    tbf = ("time", "building", "floor")
+    ds = xr.Dataset(
+        data_vars=dict(
+            displacement=var(tbf, u, "m", "floor displacement relative to the ground (+ to the right)"),
+            velocity=var(tbf, _per_floor(raw.velocity, system, nb, nfmax), "m/s",
+                         "floor velocity relative to the ground"),
+            acceleration=var(tbf, _per_floor(raw.acceleration, system, nb, nfmax), "m/s^2",
+                             "absolute floor acceleration"),
+            drift=var(tbf, drift, "m", "inter-storey drift (floor minus floor below)"),
+            pounding_force=var(("time", "gap"), raw.force, "N", "pounding force (compression positive)"),
+            peak_displacement=var(("building", "floor"), peak, "m", "peak |displacement| with pounding"),
+            peak_displacement_no_pounding=var(("building", "floor"), peak0, "m",
+                                              "peak |displacement| without pounding (gaps disabled)"),
+            amplification=var(("building", "floor"), amp, "1",
+                              "displacement amplification: peak with pounding / peak without"),
+            peak_drift=var(("building", "floor"), peak_drift, "m",
+                           "peak |inter-storey drift|"),
+            peak_pounding_force=var(("gap",), raw.peak_force, "N", "peak pounding force"),
+            impact_count=var(("gap",), counts.astype(np.int64), "1", "number of impacts"),
+            impact_gap=var(("impact",), imp["gap"].astype(np.int64), "1", "gap element of the impact"),
+            impact_onset=var(("impact",), imp["t0"], "s", "time of first contact"),
+            impact_approach_velocity=var(("impact",), imp["v0"], "m/s",
+                                         "relative approach velocity at first contact"),
+            impact_separation_velocity=var(("impact",), imp["vout"], "m/s",
+                                           "relative separation velocity when the gap reopens"),
+            impact_restitution=var(("impact",), restitution, "1",
+                                   "achieved coefficient of restitution (separation / approach)"),
+            impact_peak_force=var(("impact",), imp["fmax"], "N", "peak force of the impact"),
+            impact_duration=var(("impact",), imp["dur"], "s", "contact duration (NaN if still in contact)"),
+            impact_damping=var(("impact",), imp["zeta"], "law-dependent",
+                               "damping used: zeta [N s/m^(n+1)] for Hd, LHC, Hertzdamp; "
+                               "c [N s/m] for LVe, MLVe; xi-bar [-] for NIVe"),
+            ground_acceleration=var(("time",), ground_acc, "m/s^2", "ground acceleration"),
+            energy=var(("time", "energy_component"), raw.energy, "J",
+                       "energy balance (relative frame): input = kinetic + strain + damping + contact"),
+        ),
+        coords=dict(
+            time=("time", raw.time, {"units": "s", "long_name": "time"}),
+            building=("building", np.array(b_names, dtype=object), {"long_name": "building, left to right"}),
+            floor=("floor", np.arange(1, nfmax + 1), {"long_name": "floor number (1 = first above ground)"}),
+            floor_height=(("building", "floor"), heights, {"units": "m", "long_name": "floor elevation"}),
+            gap=("gap", np.arange(ng), {"long_name": "gap element"}),
+            gap_left=("gap", np.array([b_names[l.left] for l in links], dtype=object),
+                      {"long_name": "left building"}),
+            gap_right=("gap", np.array([b_names[l.right] for l in links], dtype=object),
+                       {"long_name": "right building"}),
+            gap_left_floor=("gap", np.array([l.left_floor for l in links], np.int64), {"units": "1"}),
+            gap_right_floor=("gap", np.array([l.right_floor for l in links], np.int64), {"units": "1"}),
+            gap_height=("gap", np.array([l.height for l in links], float), {"units": "m"}),
+            gap_size=("gap", system.gap_size.copy(), {"units": "m", "long_name": "at-rest gap"}),
+            gap_law=("gap", np.array([l.law.name for l in links], dtype=object), {"long_name": "contact law"}),
+            impact=("impact", np.arange(ni), {"long_name": "impact number"}),
+            energy_component=("energy_component", np.array(ENERGY_COMPONENTS, dtype=object)),
+        ),
+    )
+    nm = model.analysis.newmark
+    ds.attrs.update(
+        schema=SCHEMA,
+        schema_version=SCHEMA_VERSION,
+        title=model.title,
+        seispound_version=version,
+        created_utc=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+        model_file=str(model.source or ""),
+        model_text=model.text or "",
+        record=json.dumps(record_provenance) if record_provenance else "none",
+        contact_law=json.dumps(sorted({l.law.name for l in links})),
+        dt=float(model.analysis.dt),
+        duration=float(model.analysis.duration),
+        newmark_beta=float(nm.beta),
+        newmark_gamma=float(nm.gamma),
+        integrator_stats=json.dumps(raw.stats),
+        sign_convention="x positive from left building to right; penetration = u_left - u_right - gap",
+    )
+    return ds

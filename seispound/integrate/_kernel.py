@@ -227,12 +227,17 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     ng = gap_size.size
     cap = imp_gap.size
     # -- work arrays (allocated once; the loop allocates nothing) ------------
-    L_dt = np.empty((n, p + 1))
+    # factors of K_hat for h = dt / 2^k (contact substeps stay on this grid,
+    # so each level is factored once) plus one scratch factor for odd steps
+    n_lev = 48
+    L_lev = np.empty((n_lev, n, p + 1))
+    have_lev = np.zeros(n_lev, np.bool_)
     L_h = np.empty((n, p + 1))
     u = u_init.copy()
     v = v_init.copy()
     a = np.empty(n)
     u1 = np.empty(n)
+    Du = np.empty(n)  # u1 - u, kept separately: recomputing it loses digits on short steps
     v1 = np.empty(n)
     a1 = np.empty(n)
     fs = np.empty(n)
@@ -261,8 +266,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     n_imp = 0
     status = OK
 
-    if not _factor(dt, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_dt):
+    if not _factor(dt, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[0]):
         return NEWTON_FAILED, 0, 0.0
+    have_lev[0] = True
     stats[S_FACTORIZATIONS] += 1
     h_cached = -1.0
 
@@ -322,21 +328,30 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     out_e[0, E_CONTACT] = 0.0
     e_in = ek + es
 
-    hmin = 1e-12 * dt
+    hmin = 1e-9 * dt  # events closer than this to the step start switch in place
     for step in range(nsteps):
         t_end = (step + 1) * dt
-        while t_end - t > 1e-12 * dt:
+        while t_end - t > 1e-9 * dt:
             remaining = t_end - t
             h_nom = remaining
-            any_active = False
+            h_min_sub = dt
             for g in range(ng):
-                if active[g]:
-                    any_active = True
-                    if hsub[g] < h_nom:
-                        h_nom = hsub[g]
-            if any_active and h_nom < remaining:
-                nsplit = math.ceil(remaining / h_nom - 1e-9)
-                h_nom = remaining / nsplit
+                if active[g] and hsub[g] < h_min_sub:
+                    h_min_sub = hsub[g]
+            lev = 0
+            while lev < n_lev - 1 and dt / 2.0**lev > h_min_sub:
+                lev += 1
+            if lev > 0:
+                # next point of the dt/2^lev grid inside this analysis step
+                hl = dt / 2.0**lev
+                t_start = t_end - dt
+                # (tolerant rounding: t carries round-off, never take a sliver step)
+                nxt = t_start + (math.floor((t - t_start) / hl + 1e-6) + 1.0) * hl
+                if nxt - t < 1e-3 * hl:
+                    nxt += hl
+                h_nom = min(nxt - t, remaining)
+                if remaining - h_nom < 1e-3 * hl:
+                    h_nom = remaining  # absorb a sliver rather than step over it alone
             # gap state at the start of the step
             for g in range(ng):
                 d0[g] = u[gap_i[g]] - u[gap_j[g]] - gap_size[g]
@@ -354,8 +369,19 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
             located = False
             for attempt in range(200):
                 # ---- factor K_hat(h) (cached for dt and for the last other h)
-                if abs(h - dt) <= 1e-14 * dt:
-                    Lf = L_dt
+                lv = -1
+                if abs(h - dt / 2.0**lev) <= 1e-9 * h:
+                    lv = lev
+                elif abs(h - dt) <= 1e-9 * dt:
+                    lv = 0
+                if lv >= 0:
+                    h = dt / 2.0**lv
+                    if not have_lev[lv]:
+                        if not _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[lv]):
+                            return NEWTON_FAILED, n_imp, t
+                        have_lev[lv] = True
+                        stats[S_FACTORIZATIONS] += 1
+                    Lf = L_lev[lv]
                 else:
                     if abs(h - h_cached) > 1e-14 * h:
                         if not _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_h):
@@ -378,6 +404,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                                 - mass[i] * Av[i] - fd1[i] - fs1[i])
                     _solve(Lf, p, R, z)
                     for i in range(n):
+                        Du[i] = z[i]
                         u1[i] = u[i] + z[i]
                         v1[i] = Vv[i] + cc * z[i]
                         a1[i] = Av[i] + cm * z[i]
@@ -396,16 +423,16 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         R[gap_j[g]] = -1.0
                         _solve(Lf, p, R, W[q])
                     for i in range(n):
-                        u1[i] = u[i] + h * v[i] + 0.5 * h * h * a[i]
+                        Du[i] = h * v[i] + 0.5 * h * h * a[i]
                     converged = False
                     it = 0
                     dumax = np.inf
                     umag = 0.0
                     while True:
                         for i in range(n):
-                            du = u1[i] - u[i]
-                            a1[i] = cm * du + Av[i]
-                            v1[i] = cc * du + Vv[i]
+                            u1[i] = u[i] + Du[i]
+                            a1[i] = cm * Du[i] + Av[i]
+                            v1[i] = cc * Du[i] + Vv[i]
                         _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u1, v1, fs1, fd1)
                         scale = 0.0
                         for i in range(n):
@@ -450,9 +477,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                             dui = z[i]
                             for q in range(m_act):
                                 dui -= W[q, i] * ym[q]
-                            u1[i] += dui
+                            Du[i] += dui
                             dumax = max(dumax, abs(dui))
-                            umag = max(umag, abs(u1[i]))
+                            umag = max(umag, abs(u[i] + Du[i]))
                     if it > stats[S_MAX_ITER]:
                         stats[S_MAX_ITER] = it
                 if not converged:
@@ -507,14 +534,14 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 stats[S_STEPS] += 1
                 t0 = t
                 for i in range(n):
-                    du = u1[i] - u[i]
+                    du = Du[i]
                     pg0 = -mass[i] * _ground(ag, dof_motion[i], t0, dt)
                     pg1 = -mass[i] * _ground(ag, dof_motion[i], t0 + h, dt)
                     e_in += 0.5 * (pg0 + pg1) * du
                     e_damp += 0.5 * (fd[i] + fd1[i]) * du
                 for g in range(ng):
                     if active[g] or F[g] != 0.0:
-                        dd = (u1[gap_i[g]] - u[gap_i[g]]) - (u1[gap_j[g]] - u[gap_j[g]])
+                        dd = Du[gap_i[g]] - Du[gap_j[g]]
                         e_cont += 0.5 * (F[g] + F1[g]) * dd
                 for i in range(n):
                     u[i] = u1[i]

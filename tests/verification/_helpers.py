@@ -1,0 +1,62 @@
+"""Shared fixtures of the verification suite: the El Centro record and the test buildings.
+
+The record is read here with a ten-line parser (not with ``seispound.motion``) so
+that the verification does not depend on the package's own reader.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from seispound.structure import Building, NoDamping, RayleighDamping
+
+G = 9.80665  # standard gravity [m/s^2] (PEER AT2 records are in g)
+RECORD = Path(__file__).resolve().parents[2] / "ground_motions" / "RSN6_IMPVALL.I_I-ELC180-hor1.AT2"
+
+
+def read_at2(path=RECORD):
+    """(dt [s], acceleration [m/s^2]) of a PEER AT2 file: 4 header lines, then values in g."""
+    lines = Path(path).read_text().splitlines()
+    header = lines[3].upper().replace(",", " ")
+    npts = int(header.split("NPTS=")[1].split()[0])
+    dt = float(header.split("DT=")[1].split()[0])
+    acc = np.array(" ".join(lines[4:]).split(), dtype=float)
+    assert acc.size == npts
+    return dt, acc * G
+
+
+def el_centro(t_end, dt):
+    """El Centro 1940 (RSN6, 180 deg) ground acceleration on the grid k dt, k = 0..round(t_end/dt) [m/s^2].
+
+    The record (dt = 0.01 s) is interpolated linearly, which is exactly how the
+    kernel and the closed-form references see the excitation between samples.
+    """
+    rdt, acc = read_at2()
+    nsteps = int(round(t_end / dt))
+    t = np.arange(nsteps + 1) * dt
+    return np.interp(t, np.arange(acc.size) * rdt, acc), nsteps
+
+
+def uniform_stiffness(mass, n, period):
+    """Storey stiffness [N/m] of a uniform n-storey shear building with fundamental period ``period``.
+
+    Uniform shear building: w_1 = 2 sqrt(k/m) sin(pi / (2 (2n + 1)))
+    (the fixed-free chain; e.g. Chopra, Dynamics of Structures, Sec. 18.x / Problem 10.x).
+    """
+    w1 = 2.0 * math.pi / period
+    return mass * (w1 / (2.0 * math.sin(math.pi / (2.0 * (2 * n + 1))))) ** 2
+
+
+def shear_building(name, n, period, mass=1e5, ratio=0.05, modes=(1, 2), height=3.0, v0=0.0):
+    """Uniform n-storey building with floor mass ``mass`` [kg] and fundamental period ``period`` [s]."""
+    k = uniform_stiffness(mass, n, period)
+    damping = RayleighDamping(ratio=ratio, modes=modes) if ratio > 0 else NoDamping()
+    return Building(name, [mass] * n, [k] * n, [height] * n, damping, initial_velocity=v0)
+
+
+def pendulum(name, mass, v0=0.0, length=1.5, g=9.81):
+    """A suspended slab as a one-storey 'building' of stiffness m g / L (seed Sec. 3 test rig)."""
+    return Building(name, [mass], [mass * g / length], [1.0], NoDamping(), initial_velocity=v0)

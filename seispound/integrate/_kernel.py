@@ -174,6 +174,13 @@ def _ground(ag, row, t, dt):
 
 
 @njit(cache=True)
+def _ground_all(ag, t, dt, out):
+    """Ground acceleration of every motion row at time t into ``out`` (nm,)."""
+    for r in range(out.size):
+        out[r] = _ground(ag, r, t, dt)
+
+
+@njit(cache=True)
 def _hermite(s, d0, r0, d1, r1, h):
     """Cubic Hermite interpolant of delta at fraction s of a step of size h."""
     s2 = s * s
@@ -209,6 +216,22 @@ def _first_crossing(d0, r0, d1, r1, h, closing, tol):
 
 
 @njit(cache=True)
+def _factor_matvec(L, p, x, y):
+    """y = K_hat x = L (L^T x), from the banded Cholesky factor."""
+    n = x.size
+    for i in range(n):
+        s = 0.0
+        for k in range(i, min(n, i + p + 1)):
+            s += L[k, k - i] * x[k]
+        y[i] = s
+    for i in range(n - 1, -1, -1):
+        s = 0.0
+        for k in range(max(0, i - p), i + 1):
+            s += L[i, i - k] * y[k]
+        y[i] = s
+
+
+@njit(cache=True)
 def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                      u_init, v_init, gap_i, gap_j, gap_size, gap_law, gap_par,
                      ag, dt, nsteps, beta, gamma, n_sub, rtol, max_iter,
@@ -225,46 +248,56 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     """
     n = mass.size
     ng = gap_size.size
+    nm = ag.shape[0]
     cap = imp_gap.size
     # -- work arrays (allocated once; the loop allocates nothing) ------------
     # factors of K_hat for h = dt / 2^k (contact substeps stay on this grid,
     # so each level is factored once) plus one scratch factor for odd steps
-    n_lev = 48
+    n_lev = 40
     L_lev = np.empty((n_lev, n, p + 1))
     have_lev = np.zeros(n_lev, np.bool_)
+    h_lev = np.empty(n_lev)
+    for k in range(n_lev):
+        h_lev[k] = dt / 2.0**k
     L_h = np.empty((n, p + 1))
     u = u_init.copy()
     v = v_init.copy()
     a = np.empty(n)
-    u1 = np.empty(n)
-    Du = np.empty(n)  # u1 - u, kept separately: recomputing it loses digits on short steps
-    v1 = np.empty(n)
-    a1 = np.empty(n)
+    fint = np.empty(n)  # storey + damping forces in equilibrium with (u, v)
+    fint1 = np.empty(n)
     fs = np.empty(n)
     fd = np.empty(n)
-    fs1 = np.empty(n)
-    fd1 = np.empty(n)
+    u1 = np.empty(n)
+    Du = np.empty(n)  # u1 - u, kept separately: recomputing it loses digits on short steps
+    Q = np.empty(n)  # K_hat Du, updated without element loops during Newton
+    v1 = np.empty(n)
+    a1 = np.empty(n)
+    R0 = np.empty(n)
     R = np.empty(n)
     z = np.empty(n)
     Av = np.empty(n)
     Vv = np.empty(n)
-    W = np.empty((max(ng, 1), n))
-    Sm = np.empty((max(ng, 1), max(ng, 1)))
-    ym = np.empty(max(ng, 1))
-    act_list = np.empty(max(ng, 1), np.int64)
+    ngw = max(ng, 1)
+    Wc = np.empty((ngw, n))  # Woodbury columns K_hat^-1 b_g for the current factor
+    Wc_ok = np.zeros(ngw, np.bool_)
+    Wc_lev = -2
+    Sm = np.empty((ngw, ngw))
+    ym = np.empty(ngw)
+    act_list = np.empty(ngw, np.int64)
     active = np.zeros(ng, np.bool_)
     zeta = np.zeros(ng)
     hsub = np.zeros(ng)
     cur_imp = -np.ones(ng, np.int64)
-    F = np.zeros(ng)  # force in equilibrium with the current state
+    F = np.zeros(ng)  # contact forces in equilibrium with (u, v)
     F1 = np.zeros(ng)
     kt = np.zeros(ng)
     d0 = np.empty(ng)
     r0 = np.empty(ng)
+    g_t = np.empty(nm)  # ground acceleration at t, per motion row
+    g_1 = np.empty(nm)  # ... at the end of the trial step
     for s in range(stats.size):
         stats[s] = 0
     n_imp = 0
-    status = OK
 
     if not _factor(dt, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[0]):
         return NEWTON_FAILED, 0, 0.0
@@ -295,8 +328,14 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
             imp_vout[n_imp] = np.nan
             n_imp += 1
     _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd)
+    _ground_all(ag, t, dt, g_t)
+    es0 = 0.0
+    ek = 0.0
     for i in range(n):
-        a[i] = -_ground(ag, dof_motion[i], t, dt) - (fs[i] + fd[i]) / mass[i]
+        fint[i] = fs[i] + fd[i]
+        a[i] = -g_t[dof_motion[i]] - fint[i] / mass[i]
+        es0 += 0.5 * fs[i] * u[i]
+        ek += 0.5 * mass[i] * v[i] * v[i]
     for g in range(ng):
         F[g] = 0.0
         if active[g]:
@@ -305,28 +344,24 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
             F[g] = contact_force(gap_law[g], gap_par[g], dg, rg, zeta[g])[0]
             a[gap_i[g]] -= F[g] / mass[gap_i[g]]
             a[gap_j[g]] += F[g] / mass[gap_j[g]]
-    e_in = 0.0
-    e_damp = 0.0
+            imp_fmax[cur_imp[g]] = max(F[g], 0.0)
+    e_in = ek + es0  # energy present at t = 0 counts as input
+    w_int = 0.0  # work of storey + damping forces; damping = w_int - (strain - strain0)
     e_cont = 0.0
     for i in range(n):
         out_u[0, i] = u[i]
         out_v[0, i] = v[i]
-        out_a[0, i] = a[i] + _ground(ag, dof_motion[i], t, dt)
+        out_a[0, i] = a[i] + g_t[dof_motion[i]]
         umax[i] = abs(u[i])
     for g in range(ng):
         out_f[0, g] = F[g]
-        fmax[g] = F[g]
-    ek = 0.0
-    es = 0.0
-    for i in range(n):
-        ek += 0.5 * mass[i] * v[i] * v[i]
-        es += 0.5 * fs[i] * u[i]
-    out_e[0, E_INPUT] = ek + es  # initial energy counts as input
+        fmax[g] = max(F[g], 0.0)
+    out_e[0, E_INPUT] = e_in
     out_e[0, E_KINETIC] = ek
-    out_e[0, E_STRAIN] = es
+    out_e[0, E_STRAIN] = es0
     out_e[0, E_DAMPING] = 0.0
     out_e[0, E_CONTACT] = 0.0
-    e_in = ek + es
+    pending = -1  # output row still waiting for its strain energy
 
     hmin = 1e-9 * dt  # events closer than this to the step start switch in place
     for step in range(nsteps):
@@ -339,11 +374,11 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 if active[g] and hsub[g] < h_min_sub:
                     h_min_sub = hsub[g]
             lev = 0
-            while lev < n_lev - 1 and dt / 2.0**lev > h_min_sub:
+            while lev < n_lev - 1 and h_lev[lev] > h_min_sub:
                 lev += 1
             if lev > 0:
                 # next point of the dt/2^lev grid inside this analysis step
-                hl = dt / 2.0**lev
+                hl = h_lev[lev]
                 t_start = t_end - dt
                 # (tolerant rounding: t carries round-off, never take a sliver step)
                 nxt = t_start + (math.floor((t - t_start) / hl + 1e-6) + 1.0) * hl
@@ -352,12 +387,10 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 h_nom = min(nxt - t, remaining)
                 if remaining - h_nom < 1e-3 * hl:
                     h_nom = remaining  # absorb a sliver rather than step over it alone
-            # gap state at the start of the step
+            m_act = 0
             for g in range(ng):
                 d0[g] = u[gap_i[g]] - u[gap_j[g]] - gap_size[g]
                 r0[g] = v[gap_i[g]] - v[gap_j[g]]
-            m_act = 0
-            for g in range(ng):
                 if active[g]:
                     act_list[m_act] = g
                     m_act += 1
@@ -365,17 +398,16 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
             target = -1
             landed = False
             toggle_now = -1
-            converged = False
             located = False
             for attempt in range(200):
-                # ---- factor K_hat(h) (cached for dt and for the last other h)
+                # ---- factor K_hat(h): cached per dt/2^k level, scratch otherwise
                 lv = -1
-                if abs(h - dt / 2.0**lev) <= 1e-9 * h:
+                if abs(h - h_lev[lev]) <= 1e-9 * h:
                     lv = lev
                 elif abs(h - dt) <= 1e-9 * dt:
                     lv = 0
                 if lv >= 0:
-                    h = dt / 2.0**lv
+                    h = h_lev[lv]
                     if not have_lev[lv]:
                         if not _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[lv]):
                             return NEWTON_FAILED, n_imp, t
@@ -391,62 +423,67 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     Lf = L_h
                 cm = 1.0 / (beta * h * h)
                 cc = gamma / (beta * h)
-                # Newmark: a1 = cm du + Av, v1 = cc du + Vv with du = u1 - u
+                _ground_all(ag, t + h, dt, g_1)
+                # Newmark: a1 = cm Du + Av, v1 = cc Du + Vv
                 for i in range(n):
                     Av[i] = -v[i] / (beta * h) - (0.5 / beta - 1.0) * a[i]
                     Vv[i] = (1.0 - gamma / beta) * v[i] + h * (1.0 - 0.5 * gamma / beta) * a[i]
-                t1 = t + h
+                # one element loop per attempt: K u and C Vv give the residual at Du = 0
+                _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, Vv, fs, fd)
+                if pending >= 0:
+                    es = 0.0
+                    for i in range(n):
+                        es += 0.5 * fs[i] * u[i]
+                    out_e[pending, E_STRAIN] = es
+                    out_e[pending, E_DAMPING] -= es - es0
+                    pending = -1
+                for i in range(n):
+                    R0[i] = -mass[i] * (g_1[dof_motion[i]] + Av[i]) - fd[i] - fs[i]
+                converged = False
                 if m_act == 0:
-                    # linear step: one exact solve from du = 0
-                    _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, Vv, fs1, fd1)
-                    for i in range(n):
-                        R[i] = (-mass[i] * _ground(ag, dof_motion[i], t1, dt)
-                                - mass[i] * Av[i] - fd1[i] - fs1[i])
-                    _solve(Lf, p, R, z)
-                    for i in range(n):
-                        Du[i] = z[i]
-                        u1[i] = u[i] + z[i]
-                        v1[i] = Vv[i] + cc * z[i]
-                        a1[i] = Av[i] + cm * z[i]
-                    _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u1, v1, fs1, fd1)
+                    # linear step: one exact solve
+                    _solve(Lf, p, R0, Du)
                     for g in range(ng):
                         F1[g] = 0.0
                     stats[S_ITERATIONS] += 1
                     converged = True
                 else:
-                    # Woodbury columns W[a] = K_hat^-1 b_a for the active gaps
+                    # Woodbury columns K_hat^-1 b_g, cached while the factor is a level factor
+                    if lv < 0 or lv != Wc_lev:
+                        for g in range(ngw):
+                            Wc_ok[g] = False
+                        Wc_lev = lv
                     for q in range(m_act):
                         g = act_list[q]
-                        for i in range(n):
-                            R[i] = 0.0
-                        R[gap_i[g]] = 1.0
-                        R[gap_j[g]] = -1.0
-                        _solve(Lf, p, R, W[q])
+                        if not Wc_ok[g]:
+                            for i in range(n):
+                                z[i] = 0.0
+                            z[gap_i[g]] = 1.0
+                            z[gap_j[g]] = -1.0
+                            _solve(Lf, p, z, Wc[g])
+                            Wc_ok[g] = True
                     for i in range(n):
                         Du[i] = h * v[i] + 0.5 * h * h * a[i]
-                    converged = False
+                    _factor_matvec(Lf, p, Du, Q)
+                    # force scale of the residual test: inertia, load, storey and damping forces
+                    scale0 = 0.0
+                    for i in range(n):
+                        scale0 = max(scale0, abs(mass[i] * (cm * Du[i] + Av[i])),
+                                     abs(mass[i] * g_1[dof_motion[i]]), abs(R0[i]))
+                    mmin = mass.min()
                     it = 0
                     dumax = np.inf
-                    umag = 0.0
                     while True:
                         for i in range(n):
-                            u1[i] = u[i] + Du[i]
-                            a1[i] = cm * Du[i] + Av[i]
-                            v1[i] = cc * Du[i] + Vv[i]
-                        _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u1, v1, fs1, fd1)
-                        scale = 0.0
-                        for i in range(n):
-                            pi = -mass[i] * _ground(ag, dof_motion[i], t1, dt)
-                            ma = mass[i] * a1[i]
-                            R[i] = pi - ma - fd1[i] - fs1[i]
-                            scale = max(scale, abs(pi), abs(ma), abs(fs1[i]), abs(fd1[i]))
+                            R[i] = R0[i] - Q[i]
+                        scale = scale0
                         for q in range(m_act):
                             g = act_list[q]
                             ii = gap_i[g]
                             jj = gap_j[g]
                             Fg, dFd, dFv = contact_force(gap_law[g], gap_par[g],
-                                                         u1[ii] - u1[jj] - gap_size[g],
-                                                         v1[ii] - v1[jj], zeta[g])
+                                                         u[ii] + Du[ii] - u[jj] - Du[jj] - gap_size[g],
+                                                         cc * (Du[ii] - Du[jj]) + Vv[ii] - Vv[jj], zeta[g])
                             F1[g] = Fg
                             kt[g] = dFd + cc * dFv
                             R[ii] -= Fg
@@ -455,31 +492,35 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         rn = 0.0
                         for i in range(n):
                             rn = max(rn, abs(R[i]))
-                        if rn <= rtol * scale or (it > 0 and dumax <= 1e-15 * (umag + 1e-3)):
+                        if rn <= rtol * scale or dumax <= 1e-15 * (scale / cm / mmin + 1e-3):
                             converged = True
                             break
                         if it >= max_iter:
                             break
                         it += 1
                         stats[S_ITERATIONS] += 1
-                        # du = z - W^T y, (I + D B^T W) y = D B^T z
+                        # Newton update by Woodbury: dU = z - W y, (I + D B^T W) y = D B^T z
                         _solve(Lf, p, R, z)
                         for q in range(m_act):
                             g = act_list[q]
                             ym[q] = kt[g] * (z[gap_i[g]] - z[gap_j[g]])
                             for r in range(m_act):
-                                Sm[q, r] = kt[g] * (W[r, gap_i[g]] - W[r, gap_j[g]])
+                                gr = act_list[r]
+                                Sm[q, r] = kt[g] * (Wc[gr, gap_i[g]] - Wc[gr, gap_j[g]])
                             Sm[q, q] += 1.0
                         _dense_solve(m_act, Sm, ym)
                         dumax = 0.0
-                        umag = 0.0
                         for i in range(n):
                             dui = z[i]
                             for q in range(m_act):
-                                dui -= W[q, i] * ym[q]
+                                dui -= Wc[act_list[q], i] * ym[q]
                             Du[i] += dui
+                            Q[i] += R[i]  # K_hat dU = R - B y
                             dumax = max(dumax, abs(dui))
-                            umag = max(umag, abs(u[i] + Du[i]))
+                        for q in range(m_act):
+                            g = act_list[q]
+                            Q[gap_i[g]] -= ym[q]
+                            Q[gap_j[g]] += ym[q]
                     if it > stats[S_MAX_ITER]:
                         stats[S_MAX_ITER] = it
                 if not converged:
@@ -489,13 +530,16 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     if h < hmin:
                         return NEWTON_FAILED, n_imp, t
                     continue
+                for i in range(n):
+                    u1[i] = u[i] + Du[i]
+                    v1[i] = Vv[i] + cc * Du[i]
+                    a1[i] = Av[i] + cm * Du[i]
                 # ---- events inside the step? --------------------------------
                 landed = False
                 if target >= 0:
-                    dt_g = u1[gap_i[target]] - u1[gap_j[target]] - gap_size[target]
-                    rt_g = v1[gap_i[target]] - v1[gap_j[target]]
-                    tol_t = 1e-7 * max(abs(rt_g), abs(r0[target])) * h + 1e-15
-                    landed = abs(dt_g) <= tol_t
+                    dtg = u1[gap_i[target]] - u1[gap_j[target]] - gap_size[target]
+                    rtg = v1[gap_i[target]] - v1[gap_j[target]]
+                    landed = abs(dtg) <= 1e-7 * max(abs(rtg), abs(r0[target])) * h + 1e-15
                 theta = 2.0
                 g_ev = -1
                 for g in range(ng):
@@ -526,41 +570,43 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 target = g_ev
             if not located:
                 return NEWTON_FAILED, n_imp, t
+            g = -1
             if toggle_now >= 0:
                 # the event is at the current time: switch status without moving
                 g = toggle_now
             else:
                 # ---- accept the step: energy, state, peaks ---------------------
                 stats[S_STEPS] += 1
-                t0 = t
                 for i in range(n):
-                    du = Du[i]
-                    pg0 = -mass[i] * _ground(ag, dof_motion[i], t0, dt)
-                    pg1 = -mass[i] * _ground(ag, dof_motion[i], t0 + h, dt)
-                    e_in += 0.5 * (pg0 + pg1) * du
-                    e_damp += 0.5 * (fd[i] + fd1[i]) * du
-                for g in range(ng):
-                    if active[g] or F[g] != 0.0:
-                        dd = Du[gap_i[g]] - Du[gap_j[g]]
-                        e_cont += 0.5 * (F[g] + F1[g]) * dd
+                    # equilibrium at the step end gives the storey + damping forces
+                    fint1[i] = -mass[i] * (g_1[dof_motion[i]] + a1[i])
+                for q in range(m_act):
+                    g = act_list[q]
+                    fint1[gap_i[g]] -= F1[g]
+                    fint1[gap_j[g]] += F1[g]
+                g = -1
                 for i in range(n):
+                    e_in -= 0.5 * mass[i] * (g_t[dof_motion[i]] + g_1[dof_motion[i]]) * Du[i]
+                    w_int += 0.5 * (fint[i] + fint1[i]) * Du[i]
                     u[i] = u1[i]
                     v[i] = v1[i]
                     a[i] = a1[i]
-                    fs[i] = fs1[i]
-                    fd[i] = fd1[i]
+                    fint[i] = fint1[i]
                     if abs(u[i]) > umax[i]:
                         umax[i] = abs(u[i])
-                for g in range(ng):
-                    F[g] = F1[g]
-                    if active[g]:
-                        if F[g] > fmax[g]:
-                            fmax[g] = F[g]
-                        q = cur_imp[g]
-                        if F[g] > imp_fmax[q]:
-                            imp_fmax[q] = F[g]
-                t = t0 + h
-                g = target if landed else -1
+                for q in range(m_act):
+                    gq = act_list[q]
+                    e_cont += 0.5 * (F[gq] + F1[gq]) * (Du[gap_i[gq]] - Du[gap_j[gq]])
+                    F[gq] = F1[gq]
+                    if F[gq] > fmax[gq]:
+                        fmax[gq] = F[gq]
+                    if F[gq] > imp_fmax[cur_imp[gq]]:
+                        imp_fmax[cur_imp[gq]] = F[gq]
+                t = t + h
+                for r in range(nm):
+                    g_t[r] = g_1[r]
+                if landed:
+                    g = target
             if g >= 0:
                 # ---- switch gap g: onset or end of an impact --------------------
                 rg = v[gap_i[g]] - v[gap_j[g]]
@@ -575,15 +621,14 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     imp_t0[n_imp] = t
                     imp_v0[n_imp] = rg
                     imp_zeta[n_imp] = zeta[g]
-                    imp_fmax[n_imp] = 0.0
                     imp_dur[n_imp] = np.nan
                     imp_vout[n_imp] = np.nan
-                    n_imp += 1
                     dg = u[gap_i[g]] - u[gap_j[g]] - gap_size[g]
                     F[g] = contact_force(gap_law[g], gap_par[g], dg, rg, zeta[g])[0]
-                    imp_fmax[n_imp - 1] = max(F[g], 0.0)
+                    imp_fmax[n_imp] = max(F[g], 0.0)
                     if F[g] > fmax[g]:
                         fmax[g] = F[g]
+                    n_imp += 1
                 else:
                     active[g] = False
                     q = cur_imp[g]
@@ -591,9 +636,12 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     imp_vout[q] = -rg
                     cur_imp[g] = -1
                     F[g] = 0.0
-                # the contact force may jump at an event: restore equilibrium
+                # the contact force may jump at an event (LVe's dashpot): restore
+                # equilibrium; the jump happens at fixed u and does no work
+                _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd)
                 for i in range(n):
-                    a[i] = -_ground(ag, dof_motion[i], t, dt) - (fs[i] + fd[i]) / mass[i]
+                    fint[i] = fs[i] + fd[i]
+                    a[i] = -g_t[dof_motion[i]] - fint[i] / mass[i]
                 for q in range(ng):
                     if F[q] != 0.0:
                         a[gap_i[q]] -= F[q] / mass[gap_i[q]]
@@ -601,18 +649,23 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
         # ---- output at the analysis step ---------------------------------------
         k = step + 1
         ek = 0.0
-        es = 0.0
         for i in range(n):
             out_u[k, i] = u[i]
             out_v[k, i] = v[i]
-            out_a[k, i] = a[i] + _ground(ag, dof_motion[i], t, dt)
+            out_a[k, i] = a[i] + g_t[dof_motion[i]]
             ek += 0.5 * mass[i] * v[i] * v[i]
-            es += 0.5 * fs[i] * u[i]
         for g in range(ng):
             out_f[k, g] = F[g]
         out_e[k, E_INPUT] = e_in
         out_e[k, E_KINETIC] = ek
-        out_e[k, E_STRAIN] = es
-        out_e[k, E_DAMPING] = e_damp
+        out_e[k, E_DAMPING] = w_int  # strain energy subtracted when K u is next formed
         out_e[k, E_CONTACT] = e_cont
-    return status, n_imp, t
+        pending = k
+    if pending >= 0:
+        _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd)
+        es = 0.0
+        for i in range(n):
+            es += 0.5 * fs[i] * u[i]
+        out_e[pending, E_STRAIN] = es
+        out_e[pending, E_DAMPING] -= es - es0
+    return OK, n_imp, t

@@ -1,0 +1,116 @@
+"""Command line: ``seispound run MODEL.toml -o RESULT.h5`` and ``seispound laws``.
+
+Bad input prints one line ``seispound: error: FILE: KEY: message`` and exits
+with code 2, without a traceback and without writing anything.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from .errors import InputError
+
+EXIT_INPUT = 2
+EXIT_FAILED = 1
+
+
+def _parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(prog="seispound",
+                                 description="Earthquake-induced pounding between adjacent shear buildings.")
+    ap.add_argument("--version", action="store_true", help="print the version and exit")
+    sub = ap.add_subparsers(dest="command")
+    run = sub.add_parser("run", help="simulate a model file and write the result Dataset (HDF5)")
+    run.add_argument("model", help="TOML model file")
+    run.add_argument("-o", "--output", help="result file (.h5); default: MODEL with suffix .h5")
+    run.add_argument("--no-twin", action="store_true",
+                     help="skip the no-pounding twin run (amplification is then NaN)")
+    run.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
+    sub.add_parser("laws", help="list the contact laws, their parameters and units")
+    return ap
+
+
+def main(argv=None) -> int:
+    args = _parser().parse_args(argv)
+    if args.version:
+        from . import __version__
+
+        print(__version__)
+        return 0
+    try:
+        if args.command == "run":
+            return _run(args)
+        if args.command == "laws":
+            return _laws()
+    except InputError as err:
+        print(f"seispound: error: {err}", file=sys.stderr)
+        return EXIT_INPUT
+    _parser().print_help()
+    return EXIT_INPUT
+
+
+def _run(args) -> int:
+    from .integrate import IntegrationError
+    from .model import load_model
+    from .results import write_result
+    from .simulate import simulate
+
+    model_path = Path(args.model)
+    out = Path(args.output) if args.output else model_path.with_suffix(".h5")
+    if out.suffix.lower() not in (".h5", ".hdf5", ".nc"):
+        raise InputError("output must end in .h5, .hdf5 or .nc", file=out, key="output")
+    if not out.parent.is_dir() and str(out.parent):
+        raise InputError(f"output folder does not exist: {out.parent}", file=out, key="output")
+    model = load_model(model_path)
+    try:
+        ds = simulate(model, twin=not args.no_twin)
+    except IntegrationError as err:
+        print(f"seispound: error: {model_path}: {err}", file=sys.stderr)
+        return EXIT_FAILED
+    write_result(ds, out)
+    if not args.quiet:
+        print(summary(ds, out))
+    return 0
+
+
+def summary(ds, out=None) -> str:
+    """A short text summary of a result Dataset."""
+    lines = [f"{ds.attrs.get('title', '')}"]
+    nb, ng, ni = ds.sizes["building"], ds.sizes["gap"], ds.sizes["impact"]
+    lines.append(f"  {nb} buildings, {ng} gap elements, {ni} impacts, "
+                 f"{float(ds.time[-1]):.3g} s at dt = {ds.attrs['dt']:g} s")
+    if ng:
+        lines.append("  gap  between        floors  size [m]  impacts  peak force [kN]")
+        for g in range(ng):
+            lines.append(f"  {g:>3}  {ds.gap_left.values[g]:>6}|{ds.gap_right.values[g]:<6}  "
+                         f"{int(ds.gap_left_floor[g]):>3}|{int(ds.gap_right_floor[g]):<3} "
+                         f"{float(ds.gap_size[g]):>8.4f}  {int(ds.impact_count[g]):>7}  "
+                         f"{float(ds.peak_pounding_force[g]) / 1e3:>15.1f}")
+    amp = ds.amplification
+    if amp.notnull().any():
+        where = amp.fillna(-1.0).argmax(dim=("building", "floor"))
+        b = str(ds.building.values[int(where["building"])])
+        f = int(ds.floor.values[int(where["floor"])])
+        lines.append(f"  largest amplification {float(amp.max()):.3f} at building {b}, floor {f} "
+                     f"(peak {float(ds.peak_displacement.sel(building=b, floor=f)) * 100:.2f} cm with pounding, "
+                     f"{float(ds.peak_displacement_no_pounding.sel(building=b, floor=f)) * 100:.2f} cm without)")
+    if out is not None:
+        lines.append(f"  written to {out}")
+    return "\n".join(lines)
+
+
+def _laws() -> int:
+    from .contact import get_law, law_names
+
+    for name in law_names():
+        cls = get_law(name)
+        print(f"{cls.name:<10} {cls.formula}")
+        print(f"{'':<10} reference: {cls.reference}; tension: {cls.tension_note or 'allowed'}")
+        for prm in cls.describe_params():
+            print(f"{'':<12}{prm.name:<12} [{prm.units}]  {prm.doc}")
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

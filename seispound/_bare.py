@@ -17,7 +17,7 @@ from .integrate._kernel import _factor, _internal, _solve
 def bare_newmark(mass, dof_a0, el_i, el_j, el_k, el_a1, p, ag, dt, nsteps, beta, gamma, out_u):
     """Linear Newmark from rest under ground acceleration ag (nt,); displacements into out_u (nt, n)."""
     n = mass.size
-    L = np.empty((n, p + 1))
+    L = np.empty((n, p + 2))
     _factor(dt, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L)
     u = np.zeros(n)
     v = np.zeros(n)

@@ -57,7 +57,11 @@ S_STEPS, S_ITERATIONS, S_REJECTED, S_FACTORIZATIONS, S_MAX_ITER = 0, 1, 2, 3, 4
 
 @njit(cache=True)
 def _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L):
-    """Banded Cholesky of K_hat(h) into L[i, d] = L(i, i - d); False if not positive definite."""
+    """Banded Cholesky of K_hat(h) into L[i, d] = L(i, i - d), d <= p; L[i, p + 1] = 1 / L(i, i).
+
+    L has shape (n, p + 2); the stored reciprocals turn the solves' divisions
+    into multiplications.  Returns False if K_hat is not positive definite.
+    """
     n = mass.size
     cm = 1.0 / (beta * h * h)
     cc = gamma / (beta * h)
@@ -84,11 +88,12 @@ def _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L):
         if s <= 0.0:
             return False
         L[j, 0] = math.sqrt(s)
+        L[j, p + 1] = 1.0 / L[j, 0]
         for i in range(j + 1, min(n, j + p + 1)):
             s = L[i, i - j]
             for k in range(max(0, i - p), j):
                 s -= L[i, i - k] * L[j, j - k]
-            L[i, i - j] = s / L[j, 0]
+            L[i, i - j] = s * L[j, p + 1]
     return True
 
 
@@ -96,16 +101,24 @@ def _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L):
 def _solve(L, p, b, x):
     """x = K_hat^-1 b with the banded Cholesky factor L (x may alias nothing)."""
     n = b.size
+    if p == 1:  # shear buildings: tridiagonal, straight-line recurrences
+        x[0] = b[0] * L[0, 2]
+        for i in range(1, n):
+            x[i] = (b[i] - L[i, 1] * x[i - 1]) * L[i, 2]
+        x[n - 1] *= L[n - 1, 2]
+        for i in range(n - 2, -1, -1):
+            x[i] = (x[i] - L[i + 1, 1] * x[i + 1]) * L[i, 2]
+        return
     for i in range(n):
         s = b[i]
         for k in range(max(0, i - p), i):
             s -= L[i, i - k] * x[k]
-        x[i] = s / L[i, 0]
+        x[i] = s * L[i, p + 1]
     for i in range(n - 1, -1, -1):
         s = x[i]
         for k in range(i + 1, min(n, i + p + 1)):
             s -= L[k, k - i] * x[k]
-        x[i] = s / L[i, 0]
+        x[i] = s * L[i, p + 1]
 
 
 @njit(cache=True)
@@ -254,24 +267,20 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     # factors of K_hat for h = dt / 2^k (contact substeps stay on this grid,
     # so each level is factored once) plus one scratch factor for odd steps
     n_lev = 40
-    L_lev = np.empty((n_lev, n, p + 1))
+    L_lev = np.empty((n_lev, n, p + 2))
     have_lev = np.zeros(n_lev, np.bool_)
     h_lev = np.empty(n_lev)
     for k in range(n_lev):
         h_lev[k] = dt / 2.0**k
-    L_h = np.empty((n, p + 1))
+    L_h = np.empty((n, p + 2))
     u = u_init.copy()
     v = v_init.copy()
     a = np.empty(n)
     fint = np.empty(n)  # storey + damping forces in equilibrium with (u, v)
-    fint1 = np.empty(n)
     fs = np.empty(n)
     fd = np.empty(n)
-    u1 = np.empty(n)
     Du = np.empty(n)  # u1 - u, kept separately: recomputing it loses digits on short steps
     Q = np.empty(n)  # K_hat Du, updated without element loops during Newton
-    v1 = np.empty(n)
-    a1 = np.empty(n)
     R0 = np.empty(n)
     R = np.empty(n)
     z = np.empty(n)
@@ -430,15 +439,14 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     Vv[i] = (1.0 - gamma / beta) * v[i] + h * (1.0 - 0.5 * gamma / beta) * a[i]
                 # one element loop per attempt: K u and C Vv give the residual at Du = 0
                 _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, Vv, fs, fd)
-                if pending >= 0:
-                    es = 0.0
-                    for i in range(n):
-                        es += 0.5 * fs[i] * u[i]
-                    out_e[pending, E_STRAIN] = es
-                    out_e[pending, E_DAMPING] -= es - es0
-                    pending = -1
+                es = 0.0
                 for i in range(n):
                     R0[i] = -mass[i] * (g_1[dof_motion[i]] + Av[i]) - fd[i] - fs[i]
+                    es += fs[i] * u[i]
+                if pending >= 0:
+                    out_e[pending, E_STRAIN] = 0.5 * es
+                    out_e[pending, E_DAMPING] -= 0.5 * es - es0
+                    pending = -1
                 converged = False
                 if m_act == 0:
                     # linear step: one exact solve
@@ -530,23 +538,23 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     if h < hmin:
                         return NEWTON_FAILED, n_imp, t
                     continue
-                for i in range(n):
-                    u1[i] = u[i] + Du[i]
-                    v1[i] = Vv[i] + cc * Du[i]
-                    a1[i] = Av[i] + cm * Du[i]
-                # ---- events inside the step? --------------------------------
+                # ---- events inside the step? (gap states at the end from Du) ----
                 landed = False
                 if target >= 0:
-                    dtg = u1[gap_i[target]] - u1[gap_j[target]] - gap_size[target]
-                    rtg = v1[gap_i[target]] - v1[gap_j[target]]
+                    ii = gap_i[target]
+                    jj = gap_j[target]
+                    dtg = u[ii] + Du[ii] - u[jj] - Du[jj] - gap_size[target]
+                    rtg = Vv[ii] + cc * Du[ii] - Vv[jj] - cc * Du[jj]
                     landed = abs(dtg) <= 1e-7 * max(abs(rtg), abs(r0[target])) * h + 1e-15
                 theta = 2.0
                 g_ev = -1
                 for g in range(ng):
                     if gap_law[g] == NONE or (landed and g == target):
                         continue
-                    d1 = u1[gap_i[g]] - u1[gap_j[g]] - gap_size[g]
-                    r1 = v1[gap_i[g]] - v1[gap_j[g]]
+                    ii = gap_i[g]
+                    jj = gap_j[g]
+                    d1 = u[ii] + Du[ii] - u[jj] - Du[jj] - gap_size[g]
+                    r1 = Vv[ii] + cc * Du[ii] - Vv[jj] - cc * Du[jj]
                     tol = 1e-7 * max(abs(r0[g]), abs(r1)) * h + 1e-15
                     th = 2.0
                     if not active[g]:
@@ -578,25 +586,28 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 # ---- accept the step: energy, state, peaks ---------------------
                 stats[S_STEPS] += 1
                 for i in range(n):
+                    du = Du[i]
+                    ai = Av[i] + cm * du
+                    gi1 = g_1[dof_motion[i]]
                     # equilibrium at the step end gives the storey + damping forces
-                    fint1[i] = -mass[i] * (g_1[dof_motion[i]] + a1[i])
-                for q in range(m_act):
-                    g = act_list[q]
-                    fint1[gap_i[g]] -= F1[g]
-                    fint1[gap_j[g]] += F1[g]
-                g = -1
-                for i in range(n):
-                    e_in -= 0.5 * mass[i] * (g_t[dof_motion[i]] + g_1[dof_motion[i]]) * Du[i]
-                    w_int += 0.5 * (fint[i] + fint1[i]) * Du[i]
-                    u[i] = u1[i]
-                    v[i] = v1[i]
-                    a[i] = a1[i]
-                    fint[i] = fint1[i]
+                    # (contact terms added below)
+                    f1 = -mass[i] * (gi1 + ai)
+                    e_in -= 0.5 * mass[i] * (g_t[dof_motion[i]] + gi1) * du
+                    w_int += 0.5 * (fint[i] + f1) * du
+                    fint[i] = f1
+                    u[i] += du
+                    v[i] = Vv[i] + cc * du
+                    a[i] = ai
                     if abs(u[i]) > umax[i]:
                         umax[i] = abs(u[i])
                 for q in range(m_act):
                     gq = act_list[q]
-                    e_cont += 0.5 * (F[gq] + F1[gq]) * (Du[gap_i[gq]] - Du[gap_j[gq]])
+                    ii = gap_i[gq]
+                    jj = gap_j[gq]
+                    w_int -= 0.5 * F1[gq] * (Du[ii] - Du[jj])
+                    fint[ii] -= F1[gq]
+                    fint[jj] += F1[gq]
+                    e_cont += 0.5 * (F[gq] + F1[gq]) * (Du[ii] - Du[jj])
                     F[gq] = F1[gq]
                     if F[gq] > fmax[gq]:
                         fmax[gq] = F[gq]

@@ -36,7 +36,7 @@ class Newmark:
 
     beta: float = 0.25
     gamma: float = 0.5
-    contact_substeps: int = 64
+    contact_substeps: int = 32
     rtol: float = 1e-10
     max_iter: int = 30
 

@@ -78,7 +78,7 @@ def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
         raise InputError("must be a table {beta, gamma}", key="analysis.newmark")
     _check_keys(nmk, _NEWMARK, "analysis.newmark")
     newmark = Newmark(beta=nmk.get("beta", 0.25), gamma=nmk.get("gamma", 0.5),
-                      contact_substeps=an.get("contact_substeps", 64), rtol=an.get("rtol", 1e-10),
+                      contact_substeps=an.get("contact_substeps", 32), rtol=an.get("rtol", 1e-10),
                       max_iter=an.get("max_iter", 30))
     for req in ("dt", "duration"):
         if req not in an:

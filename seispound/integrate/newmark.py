@@ -110,7 +110,12 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         raise InputError(f"dt must be > 0, got {dt!r}", key="analysis.dt")
     if int(system.dof_motion.max(initial=0)) >= ag.shape[0]:
         raise ValueError("dof_motion refers to a missing ground-motion row")
-    n, ng = system.n_dof, system.n_gap
+    n, ng_all = system.n_dof, system.n_gap
+    # gaps whose law is NONE (the no-pounding twin) are left out of the kernel
+    live = np.flatnonzero(system.gap_law != 0)
+    gap_i, gap_j = system.gap_i[live], system.gap_j[live]
+    gap_size, gap_law, gap_par = system.gap_size[live], system.gap_law[live], system.gap_par[live]
+    ng = live.size
     cap = impact_capacity or max(64, 4 * ng)
     while True:
         out = dict(
@@ -123,8 +128,8 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         )
         status, n_imp, t_reached = K.integrate_kernel(
             system.mass, system.dof_a0, system.dof_motion, system.el_i, system.el_j, system.el_k,
-            system.el_a1, int(system.bandwidth), system.u0, system.v0, system.gap_i, system.gap_j,
-            system.gap_size, system.gap_law, system.gap_par, np.ascontiguousarray(ag), float(dt),
+            system.el_a1, int(system.bandwidth), system.u0, system.v0, gap_i, gap_j,
+            gap_size, gap_law, np.ascontiguousarray(gap_par), np.ascontiguousarray(ag), float(dt),
             int(nsteps), float(nm.beta), float(nm.gamma), int(nm.contact_substeps), float(nm.rtol),
             int(nm.max_iter), **out)
         if status == K.IMPACT_CAPACITY:
@@ -135,10 +140,15 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
                                    f"(try a smaller analysis.dt or more contact_substeps)")
         break
     imp = {k[4:]: out[k][:n_imp].copy() for k in out if k.startswith("imp_")}
+    imp["gap"] = live[imp["gap"]]  # back to the system's gap numbering
+    force = np.zeros((nsteps + 1, ng_all))
+    force[:, live] = out["out_f"]
+    peak_force = np.zeros(ng_all)
+    peak_force[live] = out["fmax"]
     st = out["stats"]
     stats = dict(steps=int(st[K.S_STEPS]), iterations=int(st[K.S_ITERATIONS]),
                  rejected=int(st[K.S_REJECTED]), factorizations=int(st[K.S_FACTORIZATIONS]),
                  max_iterations=int(st[K.S_MAX_ITER]))
     return RawResult(time=np.arange(nsteps + 1) * dt, displacement=out["out_u"], velocity=out["out_v"],
-                     acceleration=out["out_a"], force=out["out_f"], energy=out["out_e"],
-                     peak_displacement=out["umax"], peak_force=out["fmax"], impacts=imp, stats=stats)
+                     acceleration=out["out_a"], force=force, energy=out["out_e"],
+                     peak_displacement=out["umax"], peak_force=peak_force, impacts=imp, stats=stats)

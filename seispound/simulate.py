@@ -31,6 +31,11 @@ def prepare_ground_motion(model):
             rec = rec.baseline_corrected(order=spec.baseline)
         ag = ground_acceleration(rec, an.dt, nsteps * an.dt)
     except InputError as err:
+        if err.key in ("units", "trace", "calibration", "scale", "baseline", "dt"):
+            # a setting of the model file that does not fit the record
+            section = "analysis" if err.key == "dt" else "ground_motion"
+            raise InputError(f"{err.message} (record {spec.file.name})", file=model.source,
+                             key=f"{section}.{err.key}") from None
         raise err.located(file=spec.file) from None
     prov = dict(rec.provenance)
     if ag.size != nsteps + 1:  # pragma: no cover - guarded by ground_acceleration's contract

@@ -102,6 +102,12 @@ def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
         units = g.get("units", "auto")
         if not isinstance(units, str):
             raise InputError(f"must be a string, got {units!r}", key="ground_motion.units")
+        from ..motion.record import _canonical_units
+
+        try:
+            _canonical_units(units, None)  # fail at load time, before any work
+        except InputError as err:
+            raise InputError(err.message, key="ground_motion.units") from None
         scale = g.get("scale", 1.0)
         if not _number(scale) or not scale > 0:
             raise InputError(f"must be a number > 0, got {scale!r}", key="ground_motion.scale")

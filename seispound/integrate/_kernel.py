@@ -214,11 +214,30 @@ def _first_crossing(d0, r0, d1, r1, h, closing, tol):
     ``closing``: look for delta rising above +tol (onset); else falling below -tol (end).
     """
     sgn = 1.0 if closing else -1.0
+    # interior extremum of the cubic (a grazing touch can hide between samples)
+    ca = h * (r1 + r0) - 2.0 * (d1 - d0)
+    cb = (d1 - d0 - h * r0) - ca
+    cc = h * r0
+    s_ext = 2.0
+    if ca != 0.0:
+        disc = 4.0 * cb * cb - 12.0 * ca * cc
+        if disc >= 0.0:
+            sq = math.sqrt(disc)
+            for root in ((-2.0 * cb - sq) / (6.0 * ca), (-2.0 * cb + sq) / (6.0 * ca)):
+                if 0.0 < root < 1.0 and sgn * _hermite(root, d0, r0, d1, r1, h) > tol and root < s_ext:
+                    s_ext = root
+    elif cb != 0.0:
+        root = -cc / (2.0 * cb)
+        if 0.0 < root < 1.0 and sgn * _hermite(root, d0, r0, d1, r1, h) > tol:
+            s_ext = root
     nsamp = 16
     prev = 0.0
     for k in range(1, nsamp + 1):
         s = k / nsamp
         val = sgn * _hermite(s, d0, r0, d1, r1, h)
+        if s_ext < s and s_ext > prev:
+            s = s_ext
+            val = sgn * _hermite(s, d0, r0, d1, r1, h)
         if val > tol:
             lo = prev
             hi = s
@@ -624,6 +643,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     if F[gq] > imp_fmax[cur_imp[gq]]:
                         imp_fmax[cur_imp[gq]] = F[gq]
                 t = t + h
+                if abs(t - t_end) <= 1e-9 * dt:
+                    t = t_end  # no round-off drift of the clock across analysis steps
                 for r in range(nm):
                     g_t[r] = g_1[r]
                 if landed:

@@ -46,6 +46,9 @@ def main(argv=None) -> int:
     except InputError as err:
         print(f"seispound: error: {err}", file=sys.stderr)
         return EXIT_INPUT
+    except BrokenPipeError:  # output piped into `head`: not an error
+        sys.stderr.close()
+        return 0
     _parser().print_help()
     return EXIT_INPUT
 

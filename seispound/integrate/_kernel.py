@@ -586,8 +586,12 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     tol = 1e-7 * max(abs(r0[g]), abs(r1)) * h + 1e-15
                     th = 2.0
                     if not active[g]:
-                        # also a grazing touch that opens again within the step
-                        if d1 > tol or (r0[g] > 0.0 and r1 < 0.0 and d0[g] + r0[g] * h > -tol):
+                        # the Hermite cubic of delta over the step is bounded by
+                        # max(d0, d1) + (4/27) h (max(r0, 0) + max(-r1, 0)) (its basis
+                        # functions h10, -h11 <= 4/27): only a gap that may touch,
+                        # even grazing, needs the crossing search
+                        bound = max(d0[g], d1) + (4.0 / 27.0) * h * (max(r0[g], 0.0) + max(-r1, 0.0))
+                        if bound > tol:
                             th = _first_crossing(d0[g], r0[g], d1, r1, h, True, tol)
                     elif d1 < -tol:
                         th = _first_crossing(d0[g], r0[g], d1, r1, h, False, tol)

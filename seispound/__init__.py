@@ -8,6 +8,7 @@ Quick use::
     sp.write_result(ds, "two.h5")
 """
 
+from importlib import import_module
 from importlib.metadata import PackageNotFoundError, version as _version
 
 try:
@@ -16,9 +17,25 @@ except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0.0.0+unknown"
 
 from .errors import InputError
-from .model import Analysis, GroundMotionSpec, Model, load_model
-from .results import open_result, write_result
-from .simulate import simulate
 
-__all__ = ["InputError", "Model", "Analysis", "GroundMotionSpec", "load_model", "simulate",
-           "write_result", "open_result", "__version__"]
+# Public names load their modules on first use, so that the command line
+# (`seispound laws`, error paths) does not pay for numba and xarray up front.
+_LAZY = {
+    "Model": ".model", "Analysis": ".model", "GroundMotionSpec": ".model", "load_model": ".model",
+    "simulate": ".simulate", "write_result": ".results", "open_result": ".results",
+    "normalised_error": ".results",
+}
+
+__all__ = ["InputError", "__version__", *_LAZY]
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        value = getattr(import_module(_LAZY[name], __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'seispound' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(__all__)

@@ -282,6 +282,12 @@ class Hertz(ContactLaw):
     def __init__(self, stiffness: float, restitution: float = 1.0, tension: bool | None = None):
         super().__init__(stiffness, restitution, tension)
 
+    @classmethod
+    def describe_params(cls):
+        params = super().describe_params()
+        params[1] = Param("restitution", "-", "must be 1 (elastic)")
+        return params
+
     def validate(self, key="contact"):
         super().validate(key)
         if self.restitution != 1.0:

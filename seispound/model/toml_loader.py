@@ -102,7 +102,7 @@ def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
         units = g.get("units", "auto")
         if not isinstance(units, str):
             raise InputError(f"must be a string, got {units!r}", key="ground_motion.units")
-        from ..motion.record import _canonical_units
+        from ..motion.units import _canonical_units
 
         try:
             _canonical_units(units, None)  # fail at load time, before any work

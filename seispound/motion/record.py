@@ -31,20 +31,7 @@ from seispound.errors import InputError
 
 __all__ = ["G_STANDARD", "Record", "read_record", "ground_acceleration", "UNIT_FACTORS"]
 
-#: Standard acceleration of gravity, m/s² (3rd CGPM, 1901).
-G_STANDARD = 9.80665
-
-#: Factor from each supported unit to m/s² ("counts" needs a calibration).
-UNIT_FACTORS = {"g": G_STANDARD, "m/s2": 1.0, "cm/s2": 1.0e-2, "mm/s2": 1.0e-3}
-
-_UNIT_ALIASES = {
-    "g": "g",
-    "m/s2": "m/s2", "mps2": "m/s2", "m/s/s": "m/s2", "m/sec2": "m/s2",
-    "cm/s2": "cm/s2", "gal": "cm/s2", "gals": "cm/s2", "cm/s/s": "cm/s2",
-    "cm/sec2": "cm/s2",
-    "mm/s2": "mm/s2", "mm/s/s": "mm/s2", "mm/sec2": "mm/s2",
-    "counts": "counts", "count": "counts",
-}
+from seispound.motion.units import G_STANDARD, UNIT_FACTORS, _UNIT_ALIASES, _canonical_units  # noqa: F401
 
 # Largest denominator accepted when expressing a coarsening ratio as up/down
 # for polyphase resampling; larger ones mean an unusual analysis step.
@@ -317,16 +304,6 @@ def _positive_finite(value, key: str, file) -> float:
     if isinstance(value, bool) or not (math.isfinite(x) and x > 0.0):
         raise InputError(f"{key} must be positive and finite, got {value!r}", file=file, key=key)
     return x
-
-
-def _canonical_units(units, file) -> str:
-    if isinstance(units, str):
-        key = "".join(units.lower().split()).replace("**", "").replace("^", "")
-        if key == "auto" or key in _UNIT_ALIASES:
-            return "auto" if key == "auto" else _UNIT_ALIASES[key]
-    raise InputError(
-        f"unknown units {units!r}; use 'g', 'm/s2', 'cm/s2' (or 'gal'), 'mm/s2' or "
-        "'counts' (with calibration in m/s2 per count)", file=file, key="units")
 
 
 def _trace_label(tr) -> str:

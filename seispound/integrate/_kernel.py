@@ -253,22 +253,6 @@ def _first_crossing(d0, r0, d1, r1, h, closing, tol):
 
 
 @njit(cache=True)
-def _factor_matvec(L, p, x, y):
-    """y = K_hat x = L (L^T x), from the banded Cholesky factor."""
-    n = x.size
-    for i in range(n):
-        s = 0.0
-        for k in range(i, min(n, i + p + 1)):
-            s += L[k, k - i] * x[k]
-        y[i] = s
-    for i in range(n - 1, -1, -1):
-        s = 0.0
-        for k in range(max(0, i - p), i + 1):
-            s += L[i, i - k] * y[k]
-        y[i] = s
-
-
-@njit(cache=True)
 def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                      u_init, v_init, gap_i, gap_j, gap_size, gap_law, gap_par,
                      ag, dt, nsteps, beta, gamma, n_sub, rtol, max_iter,
@@ -304,9 +288,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     fs = np.empty(n)
     fd = np.empty(n)
     Du = np.empty(n)  # u1 - u, kept separately: recomputing it loses digits on short steps
-    Q = np.empty(n)  # K_hat Du, updated without element loops during Newton
     R0 = np.empty(n)
-    R = np.empty(n)
     z = np.empty(n)
     Av = np.empty(n)
     Vv = np.empty(n)
@@ -315,7 +297,12 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     Wc_ok = np.zeros(ngw, np.bool_)
     Wc_lev = -2
     Sm = np.empty((ngw, ngw))
+    Gm = np.empty((ngw, ngw))  # B^T K_hat^-1 B for the gaps in contact
     ym = np.empty(ngw)
+    Fm = np.empty(ngw)  # contact forces of the active gaps (Newton unknowns)
+    dl = np.empty(ngw)  # their penetration and rate after the linear predictor
+    rl = np.empty(ngw)
+    resv = np.empty(ngw)
     act_list = np.empty(ngw, np.int64)
     active = np.zeros(ng, np.bool_)
     zeta = np.zeros(ng)
@@ -498,65 +485,63 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                             z[gap_j[g]] = -1.0
                             _solve(Lf, p, z, Wc[g])
                             Wc_ok[g] = True
+                    # Condensation on the gaps in contact.  With the structure linear,
+                    # Du = K_hat^-1 (R0 - B F) = Du_lin - W F for the contact forces F
+                    # of the m active gaps, so the Newton iteration runs on F alone:
+                    #   F = F_law(delta_lin - G F, rate_lin - cc G F),  G = B^T W (m x m).
+                    # Its residual F - F_law(...) is exactly the full residual of the
+                    # step, which is nonzero only at the gap DOFs.
+                    _solve(Lf, p, R0, Du)
+                    scale = 0.0
                     for i in range(n):
-                        Du[i] = h * v[i] + 0.5 * h * h * a[i]
-                    _factor_matvec(Lf, p, Du, Q)
-                    # force scale of the residual test: inertia, load, storey and damping forces
-                    scale0 = 0.0
-                    for i in range(n):
-                        scale0 = max(scale0, abs(mass[i] * (cm * Du[i] + Av[i])),
-                                     abs(mass[i] * g_1[dof_motion[i]]), abs(R0[i]))
-                    mmin = mass.min()
+                        scale = max(scale, abs(R0[i]))
+                    for q in range(m_act):
+                        g = act_list[q]
+                        ii = gap_i[g]
+                        jj = gap_j[g]
+                        dl[q] = u[ii] + Du[ii] - u[jj] - Du[jj] - gap_size[g]
+                        rl[q] = Vv[ii] + cc * Du[ii] - Vv[jj] - cc * Du[jj]
+                        Fm[q] = F[g]  # start from the force at the start of the step
+                        for r in range(m_act):
+                            gr = act_list[r]
+                            Gm[q, r] = Wc[gr, ii] - Wc[gr, jj]
                     it = 0
-                    dumax = np.inf
                     while True:
-                        for i in range(n):
-                            R[i] = R0[i] - Q[i]
-                        scale = scale0
+                        rn = 0.0
+                        sc = scale
                         for q in range(m_act):
                             g = act_list[q]
-                            ii = gap_i[g]
-                            jj = gap_j[g]
-                            Fg, dFd, dFv = contact_force(gap_law[g], gap_par[g],
-                                                         u[ii] + Du[ii] - u[jj] - Du[jj] - gap_size[g],
-                                                         cc * (Du[ii] - Du[jj]) + Vv[ii] - Vv[jj], zeta[g])
-                            F1[g] = Fg
-                            kt[g] = dFd + cc * dFv
-                            R[ii] -= Fg
-                            R[jj] += Fg
-                            scale = max(scale, abs(Fg))
-                        rn = 0.0
-                        for i in range(n):
-                            rn = max(rn, abs(R[i]))
-                        if rn <= rtol * scale or dumax <= 1e-15 * (scale / cm / mmin + 1e-3):
+                            s1 = 0.0
+                            for r in range(m_act):
+                                s1 += Gm[q, r] * Fm[r]
+                            Fg, dFd, dFv = contact_force(gap_law[g], gap_par[g], dl[q] - s1,
+                                                         rl[q] - cc * s1, zeta[g])
+                            resv[q] = Fm[q] - Fg
+                            kt[q] = dFd + cc * dFv
+                            rn = max(rn, abs(resv[q]))
+                            sc = max(sc, abs(Fg))
+                        if rn <= rtol * sc:
                             converged = True
                             break
                         if it >= max_iter:
                             break
                         it += 1
                         stats[S_ITERATIONS] += 1
-                        # Newton update by Woodbury: dU = z - W y, (I + D B^T W) y = D B^T z
-                        _solve(Lf, p, R, z)
+                        # Newton: (I + diag(kt) G) dF = -res
                         for q in range(m_act):
-                            g = act_list[q]
-                            ym[q] = kt[g] * (z[gap_i[g]] - z[gap_j[g]])
                             for r in range(m_act):
-                                gr = act_list[r]
-                                Sm[q, r] = kt[g] * (Wc[gr, gap_i[g]] - Wc[gr, gap_j[g]])
+                                Sm[q, r] = kt[q] * Gm[q, r]
                             Sm[q, q] += 1.0
+                            ym[q] = -resv[q]
                         _dense_solve(m_act, Sm, ym)
-                        dumax = 0.0
-                        for i in range(n):
-                            dui = z[i]
-                            for q in range(m_act):
-                                dui -= Wc[act_list[q], i] * ym[q]
-                            Du[i] += dui
-                            Q[i] += R[i]  # K_hat dU = R - B y
-                            dumax = max(dumax, abs(dui))
                         for q in range(m_act):
-                            g = act_list[q]
-                            Q[gap_i[g]] -= ym[q]
-                            Q[gap_j[g]] += ym[q]
+                            Fm[q] += ym[q]
+                    for q in range(m_act):
+                        g = act_list[q]
+                        F1[g] = Fm[q]
+                        if Fm[q] != 0.0:
+                            for i in range(n):
+                                Du[i] -= Fm[q] * Wc[g, i]
                     if it > stats[S_MAX_ITER]:
                         stats[S_MAX_ITER] = it
                 if not converged:

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import functools
+from pathlib import Path
+
 import numpy as np
 import xarray as xr
 
@@ -25,22 +28,49 @@ def prepare_ground_motion(model):
     if spec is None:
         return np.zeros(nsteps + 1), None
     try:
+        st = spec.file.stat()
+    except OSError:
+        raise InputError("record file not found", file=spec.file, key="ground_motion.file") from None
+    key = (str(spec.file), st.st_mtime_ns, st.st_size, spec.trace, spec.units, spec.calibration, spec.scale,
+           spec.baseline, an.dt, nsteps)
+    try:
+        ag, prov = _read_prepared(*key)
+    except _SettingError as err:
+        raise InputError(f"{err.message} (record {err.record})", file=model.source,
+                         key=f"{err.section}.{err.key}") from None
+    return ag.copy(), dict(prov)
+
+
+@functools.lru_cache(maxsize=32)
+def _read_prepared(file, mtime_ns, size, trace, units, calibration, scale, baseline, dt, nsteps):
+    """Read and prepare a record once per (file version, settings): studies rerun the same record."""
+    from .motion import ground_acceleration, read_record
+    from .model import GroundMotionSpec
+
+    spec = GroundMotionSpec(file=Path(file), trace=trace, units=units, scale=scale, calibration=calibration,
+                            baseline=baseline)
+    try:
         rec = read_record(spec.file, trace=spec.trace, units=spec.units, calibration=spec.calibration,
                           scale=spec.scale)
         if spec.baseline is not None:
             rec = rec.baseline_corrected(order=spec.baseline)
-        ag = ground_acceleration(rec, an.dt, nsteps * an.dt)
+        ag = ground_acceleration(rec, dt, nsteps * dt)
     except InputError as err:
         if err.key in ("units", "trace", "calibration", "scale", "baseline", "dt"):
             # a setting of the model file that does not fit the record
             section = "analysis" if err.key == "dt" else "ground_motion"
-            raise InputError(f"{err.message} (record {spec.file.name})", file=model.source,
-                             key=f"{section}.{err.key}") from None
+            raise _SettingError(err.message, section, err.key, spec.file.name) from None
         raise err.located(file=spec.file) from None
-    prov = dict(rec.provenance)
-    if ag.size != nsteps + 1:  # pragma: no cover - guarded by ground_acceleration's contract
-        raise InputError(f"record gives {ag.size} samples, expected {nsteps + 1}", file=spec.file)
-    return ag, prov
+    ag.setflags(write=False)
+    return ag, dict(rec.provenance)
+
+
+class _SettingError(Exception):
+    """A model-file setting that does not fit the record (re-raised against the model file)."""
+
+    def __init__(self, message, section, key, record):
+        super().__init__(message)
+        self.message, self.section, self.key, self.record = message, section, key, record
 
 
 def simulate(model, *, twin: bool = True) -> xr.Dataset:

@@ -48,6 +48,9 @@ from ..contact._scalar import NIVE, NONE, contact_duration, contact_force, onset
 # substep, doubling each substep) so that the impact converges with the substep.
 ONSET_GRADING = 6
 
+# A located step ends on its event when |delta| <= LAND_TOL x the step's travel.
+LAND_TOL = 1e-7
+
 # status codes returned by the kernel
 OK = 0
 NEWTON_FAILED = 1
@@ -558,7 +561,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     jj = gap_j[target]
                     dtg = u[ii] + Du[ii] - u[jj] - Du[jj] - gap_size[target]
                     rtg = Vv[ii] + cc * Du[ii] - Vv[jj] - cc * Du[jj]
-                    landed = abs(dtg) <= 1e-7 * max(abs(rtg), abs(r0[target])) * h + 1e-15
+                    landed = abs(dtg) <= LAND_TOL * max(abs(rtg), abs(r0[target])) * h + 1e-15
                 theta = 2.0
                 g_ev = -1
                 for g in range(ng):
@@ -568,7 +571,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     jj = gap_j[g]
                     d1 = u[ii] + Du[ii] - u[jj] - Du[jj] - gap_size[g]
                     r1 = Vv[ii] + cc * Du[ii] - Vv[jj] - cc * Du[jj]
-                    tol = 1e-7 * max(abs(r0[g]), abs(r1)) * h + 1e-15
+                    tol = LAND_TOL * max(abs(r0[g]), abs(r1)) * h + 1e-15
                     th = 2.0
                     if not active[g]:
                         # the Hermite cubic of delta over the step is bounded by

@@ -116,7 +116,8 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     gap_i, gap_j = system.gap_i[live], system.gap_j[live]
     gap_size, gap_law, gap_par = system.gap_size[live], system.gap_law[live], system.gap_par[live]
     ng = live.size
-    cap = impact_capacity or max(64, 4 * ng)
+    # room for every impact up front: a catalogue overflow reruns the whole integration
+    cap = impact_capacity or max(256, nsteps // 4 + 16 * ng)
     while True:
         out = dict(
             out_u=np.empty((nsteps + 1, n)), out_v=np.empty((nsteps + 1, n)), out_a=np.empty((nsteps + 1, n)),

@@ -256,6 +256,27 @@ def _first_crossing(d0, r0, d1, r1, h, closing, tol):
 
 
 @njit(cache=True)
+def _begin_impact(g, t, dg, rg, code, par, n_sub, active, zeta, hsub, age, cur_imp,
+                  n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_fmax, imp_dur, imp_vout):
+    """Open impact number ``n_imp`` at gap g: fix its damping from the approach
+    velocity rg, size its substeps, start its catalogue row; return its onset force."""
+    active[g] = True
+    zeta[g] = onset_damping(code, par, rg)
+    hsub[g] = contact_duration(code, par, rg) / n_sub
+    age[g] = 0
+    cur_imp[g] = n_imp
+    imp_gap[n_imp] = g
+    imp_t0[n_imp] = t
+    imp_v0[n_imp] = rg
+    imp_zeta[n_imp] = zeta[g]
+    imp_dur[n_imp] = np.nan
+    imp_vout[n_imp] = np.nan
+    f0 = contact_force(code, par, dg, rg, zeta[g])[0]
+    imp_fmax[n_imp] = max(f0, 0.0)
+    return f0
+
+
+@njit(cache=True)
 def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                      u_init, v_init, gap_i, gap_j, gap_size, gap_law, gap_par,
                      ag, dt, nsteps, beta, gamma, n_sub, rtol, max_iter,
@@ -339,18 +360,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
         if dg > 0.0 or (dg == 0.0 and rg > 0.0):
             if n_imp >= cap:
                 return IMPACT_CAPACITY, n_imp, t
-            active[g] = True
-            zeta[g] = onset_damping(gap_law[g], gap_par[g], rg)
-            hsub[g] = contact_duration(gap_law[g], gap_par[g], rg) / n_sub
-            age[g] = 0
-            cur_imp[g] = n_imp
-            imp_gap[n_imp] = g
-            imp_t0[n_imp] = t
-            imp_v0[n_imp] = rg
-            imp_zeta[n_imp] = zeta[g]
-            imp_fmax[n_imp] = 0.0
-            imp_dur[n_imp] = np.nan
-            imp_vout[n_imp] = np.nan
+            _begin_impact(g, t, dg, rg, gap_law[g], gap_par[g], n_sub, active, zeta, hsub, age, cur_imp,
+                          n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_fmax, imp_dur, imp_vout)
             n_imp += 1
     _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd)
     _ground_all(ag, t, dt, g_t)
@@ -647,20 +658,10 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 if not active[g]:
                     if n_imp >= cap:
                         return IMPACT_CAPACITY, n_imp, t
-                    active[g] = True
-                    zeta[g] = onset_damping(gap_law[g], gap_par[g], rg)
-                    hsub[g] = contact_duration(gap_law[g], gap_par[g], rg) / n_sub
-                    age[g] = 0
-                    cur_imp[g] = n_imp
-                    imp_gap[n_imp] = g
-                    imp_t0[n_imp] = t
-                    imp_v0[n_imp] = rg
-                    imp_zeta[n_imp] = zeta[g]
-                    imp_dur[n_imp] = np.nan
-                    imp_vout[n_imp] = np.nan
                     dg = u[gap_i[g]] - u[gap_j[g]] - gap_size[g]
-                    F[g] = contact_force(gap_law[g], gap_par[g], dg, rg, zeta[g])[0]
-                    imp_fmax[n_imp] = max(F[g], 0.0)
+                    F[g] = _begin_impact(g, t, dg, rg, gap_law[g], gap_par[g], n_sub, active, zeta, hsub,
+                                         age, cur_imp, n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_fmax,
+                                         imp_dur, imp_vout)
                     if F[g] > fmax[g]:
                         fmax[g] = F[g]
                     n_imp += 1

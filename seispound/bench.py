@@ -61,16 +61,19 @@ def run_benchmark(model_path=CANONICAL, repeat: int = 5) -> dict:
         bare_newmark(system.mass, system.dof_a0, system.el_i, system.el_j, system.el_k, system.el_a1,
                      system.bandwidth, ag, an.dt, an.nsteps, nmk.beta, nmk.gamma, out)
 
-    # compile (or load numba's cache) before timing
+    cases = {"pound": pound, "twin": no_pound, "run": lambda: (pound(), no_pound()), "bare": bare,
+             "simulate": lambda: simulate(model)}
+    # compile (or load numba's cache) and warm up before timing
     raw = pound()
-    no_pound()
-    bare()
-    simulate(model)
-    t_pound = _median_time(pound, repeat)
-    t_twin = _median_time(no_pound, repeat)
-    t_run = _median_time(lambda: (pound(), no_pound()), repeat)
-    t_bare = _median_time(bare, repeat)
-    t_sim = _median_time(lambda: simulate(model), repeat)
+    for fn in cases.values():
+        fn()
+    # interleaved rounds: a slow spell of the machine hits every case alike
+    times = {name: [] for name in cases}
+    for _ in range(repeat):
+        for name, fn in cases.items():
+            times[name].append(_median_time(fn, 1))
+    t_pound, t_twin, t_run, t_bare, t_sim = (statistics.median(times[k])
+                                             for k in ("pound", "twin", "run", "bare", "simulate"))
     return dict(
         model=str(model_path), n_dof=system.n_dof, n_gap=system.n_gap, nsteps=an.nsteps, dt=an.dt,
         repeat=repeat, impacts=int(raw.impacts["gap"].size), steps_taken=raw.stats["steps"],

@@ -336,8 +336,10 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     F = np.zeros(ng)  # contact forces in equilibrium with (u, v)
     F1 = np.zeros(ng)
     kt = np.zeros(ng)
-    d0 = np.empty(ng)
+    d0 = np.empty(ng)  # penetration and rate of every gap at the start of the step
     r0 = np.empty(ng)
+    d_end = np.empty(ng)  # ... at the end of the trial step (swapped in on acceptance)
+    r_end = np.empty(ng)
     g_t = np.empty(nm)  # ground acceleration at t, per motion row
     g_1 = np.empty(nm)  # ... at the end of the trial step
     for s in range(stats.size):
@@ -398,6 +400,13 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     out_e[0, E_DAMPING] = 0.0
     out_e[0, E_CONTACT] = 0.0
     pending = -1  # output row still waiting for its strain energy
+    m_act = 0  # gaps in contact, listed in act_list (kept up to date at events)
+    for g in range(ng):
+        d0[g] = u[gap_i[g]] - u[gap_j[g]] - gap_size[g]
+        r0[g] = v[gap_i[g]] - v[gap_j[g]]
+        if active[g]:
+            act_list[m_act] = g
+            m_act += 1
 
     hmin = 1e-9 * dt  # events closer than this to the step start switch in place
     for step in range(nsteps):
@@ -406,14 +415,14 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
             remaining = t_end - t
             h_nom = remaining
             lev = 0
-            for g in range(ng):
-                if active[g]:
-                    lg = 0
-                    while lg < n_lev - 1 and h_lev[lg] > hsub[g]:
-                        lg += 1
-                    if gap_law[g] == NIVE and age[g] < ONSET_GRADING:
-                        lg = min(lg + ONSET_GRADING - age[g], n_lev - 1)
-                    lev = max(lev, lg)
+            for q in range(m_act):
+                g = act_list[q]
+                lg = 0
+                while lg < n_lev - 1 and h_lev[lg] > hsub[g]:
+                    lg += 1
+                if gap_law[g] == NIVE and age[g] < ONSET_GRADING:
+                    lg = min(lg + ONSET_GRADING - age[g], n_lev - 1)
+                lev = max(lev, lg)
             if lev > 0:
                 # next point of the dt/2^lev grid inside this analysis step
                 hl = h_lev[lev]
@@ -425,13 +434,6 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 h_nom = min(nxt - t, remaining)
                 if remaining - h_nom < 1e-3 * hl:
                     h_nom = remaining  # absorb a sliver rather than step over it alone
-            m_act = 0
-            for g in range(ng):
-                d0[g] = u[gap_i[g]] - u[gap_j[g]] - gap_size[g]
-                r0[g] = v[gap_i[g]] - v[gap_j[g]]
-                if active[g]:
-                    act_list[m_act] = g
-                    m_act += 1
             h = h_nom
             target = -1
             landed = False
@@ -576,12 +578,14 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 theta = 2.0
                 g_ev = -1
                 for g in range(ng):
-                    if gap_law[g] == NONE or (landed and g == target):
-                        continue
                     ii = gap_i[g]
                     jj = gap_j[g]
                     d1 = u[ii] + Du[ii] - u[jj] - Du[jj] - gap_size[g]
                     r1 = Vv[ii] + cc * Du[ii] - Vv[jj] - cc * Du[jj]
+                    d_end[g] = d1
+                    r_end[g] = r1
+                    if gap_law[g] == NONE or (landed and g == target):
+                        continue
                     tol = LAND_TOL * max(abs(r0[g]), abs(r1)) * h + 1e-15
                     th = 2.0
                     if not active[g]:
@@ -645,6 +649,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         fmax[gq] = F[gq]
                     if F[gq] > imp_fmax[cur_imp[gq]]:
                         imp_fmax[cur_imp[gq]] = F[gq]
+                d0, d_end = d_end, d0
+                r0, r_end = r_end, r0
                 t = t + h
                 if abs(t - t_end) <= 1e-9 * dt:
                     t = t_end  # no round-off drift of the clock across analysis steps
@@ -665,8 +671,15 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     if F[g] > fmax[g]:
                         fmax[g] = F[g]
                     n_imp += 1
+                    act_list[m_act] = g
+                    m_act += 1
                 else:
                     active[g] = False
+                    for q in range(m_act):
+                        if act_list[q] == g:
+                            act_list[q] = act_list[m_act - 1]
+                            m_act -= 1
+                            break
                     q = cur_imp[g]
                     imp_dur[q] = t - imp_t0[q]
                     imp_vout[q] = -rg

@@ -94,7 +94,7 @@ def simulate(model, *, twin: bool = True) -> xr.Dataset:
     an = model.analysis
     raw = integrate(system, ag, an.dt, an.nsteps, an.newmark)
     if twin:
-        raw0 = integrate(system.without_contact(), ag, an.dt, an.nsteps, an.newmark)
+        raw0 = integrate(system.without_contact(), ag, an.dt, an.nsteps, an.newmark, store_history=False)
     else:
         raw0 = raw
         raw0 = type(raw)(**{**raw.__dict__, "peak_displacement": np.full_like(raw.peak_displacement, np.nan)})

@@ -77,7 +77,7 @@ class RawResult:
 
 
 def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newmark | None = None,
-              impact_capacity: int | None = None) -> RawResult:
+              impact_capacity: int | None = None, store_history: bool = True) -> RawResult:
     """Integrate a row of buildings under one (or one per DOF group) ground motion.
 
     Parameters
@@ -94,6 +94,9 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     newmark : Newmark, optional
     impact_capacity : int, optional
         Initial size of the impact catalogue (grown automatically).
+    store_history : bool
+        Keep the time histories (default).  False keeps only the peaks, the
+        impact catalogue and the initial state (what the no-pounding twin needs).
 
     Returns
     -------
@@ -118,10 +121,11 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     ng = live.size
     # room for every impact up front: a catalogue overflow reruns the whole integration
     cap = impact_capacity or max(256, nsteps // 4 + 16 * ng)
+    nt = nsteps + 1 if store_history else 1
     while True:
         out = dict(
-            out_u=np.empty((nsteps + 1, n)), out_v=np.empty((nsteps + 1, n)), out_a=np.empty((nsteps + 1, n)),
-            out_f=np.empty((nsteps + 1, ng)), out_e=np.empty((nsteps + 1, 5)),
+            out_u=np.empty((nt, n)), out_v=np.empty((nt, n)), out_a=np.empty((nt, n)),
+            out_f=np.empty((nt, ng)), out_e=np.empty((nt, 5)),
             umax=np.empty(n), fmax=np.empty(ng),
             imp_gap=np.empty(cap, np.int64), imp_t0=np.empty(cap), imp_v0=np.empty(cap),
             imp_vout=np.empty(cap), imp_fmax=np.empty(cap), imp_dur=np.empty(cap), imp_zeta=np.empty(cap),
@@ -132,7 +136,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
             system.el_a1, int(system.bandwidth), system.u0, system.v0, gap_i, gap_j,
             gap_size, gap_law, np.ascontiguousarray(gap_par), np.ascontiguousarray(ag), float(dt),
             int(nsteps), float(nm.beta), float(nm.gamma), int(nm.contact_substeps), float(nm.rtol),
-            int(nm.max_iter), **out)
+            int(nm.max_iter), bool(store_history), **out)
         if status == K.IMPACT_CAPACITY:
             cap *= 4
             continue
@@ -142,7 +146,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         break
     imp = {k[4:]: out[k][:n_imp].copy() for k in out if k.startswith("imp_")}
     imp["gap"] = live[imp["gap"]]  # back to the system's gap numbering
-    force = np.zeros((nsteps + 1, ng_all))
+    force = np.zeros((nt, ng_all))
     force[:, live] = out["out_f"]
     peak_force = np.zeros(ng_all)
     peak_force[live] = out["fmax"]
@@ -150,6 +154,6 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     stats = dict(steps=int(st[K.S_STEPS]), iterations=int(st[K.S_ITERATIONS]),
                  rejected=int(st[K.S_REJECTED]), factorizations=int(st[K.S_FACTORIZATIONS]),
                  max_iterations=int(st[K.S_MAX_ITER]))
-    return RawResult(time=np.arange(nsteps + 1) * dt, displacement=out["out_u"], velocity=out["out_v"],
+    return RawResult(time=np.arange(nt) * dt, displacement=out["out_u"], velocity=out["out_v"],
                      acceleration=out["out_a"], force=force, energy=out["out_e"],
                      peak_displacement=out["umax"], peak_force=peak_force, impacts=imp, stats=stats)

@@ -9,14 +9,18 @@ Newmark-beta in total form (Newmark 1959; Chopra, Dynamics of Structures,
 Sec. 5.4 and Table 5.7.2 for the nonlinear Newton-Raphson version): at every
 step the residual
 
-    R(u1) = p1 - M a1(u1) - C v1(u1) - K u1 - B f_c(u1, v1)
+    R(u1) = p1 - M a1(u1) - C v1(u1) - K u1 - B F(u1, v1)
 
-is driven to zero by Newton iterations on the effective tangent
-K_hat + sum_g kt_g b_g b_g^T.  K_hat = K + gamma/(beta h) C + 1/(beta h^2) M is
-banded (shear buildings: tridiagonal) and factored once per step size by a
-banded Cholesky; the rank-one contact terms of the active gaps are added by
-the Sherman-Morrison-Woodbury identity, so a step costs O(n * bandwidth) plus
-O(m^3) for m gaps in contact.
+must vanish, B holding b_g = e_left - e_right for each gap and F the contact
+forces.  K_hat = K + gamma/(beta h) C + 1/(beta h^2) M is banded (shear
+buildings: tridiagonal) and factored once per step size by a banded Cholesky.
+The storeys being linear, the step increment is Du = Du_lin - W F with
+Du_lin = K_hat^-1 R(u) and W = K_hat^-1 B (Sherman-Morrison-Woodbury), so the
+Newton-Raphson iteration runs on the m contact forces of the gaps in contact
+only: F = F_law(delta_lin - G F, rate_lin - gamma/(beta h) G F), G = B^T W.
+Its residual F - F_law is exactly R at the gap DOFs (R is zero elsewhere) and
+is tested against rtol times the largest force.  A step costs one banded solve,
+O(n * bandwidth), plus O(m^3) per iteration and O(n m) to recover Du.
 
 Contact events: the set of gaps in contact is frozen during a step.  After a
 step, a gap that opened or closed inside it (sign change of the penetration,
@@ -479,15 +483,11 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     out_e[pending, E_STRAIN] = 0.5 * es
                     out_e[pending, E_DAMPING] -= 0.5 * es - es0
                     pending = -1
-                converged = False
-                if m_act == 0:
-                    # linear step: one exact solve
-                    _solve(Lf, p, R0, Du)
-                    for g in range(ng):
-                        F1[g] = 0.0
-                    stats[S_ITERATIONS] += 1
-                    converged = True
-                else:
+                # the step with every contact force frozen at zero: exact when no gap is closed
+                _solve(Lf, p, R0, Du)
+                stats[S_ITERATIONS] += 1
+                converged = m_act == 0
+                if m_act > 0:
                     # Woodbury columns K_hat^-1 b_g, cached while the factor is a level factor
                     if lv < 0 or lv != Wc_lev:
                         for g in range(ngw):
@@ -502,13 +502,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                             z[gap_j[g]] = -1.0
                             _solve(Lf, p, z, Wc[g])
                             Wc_ok[g] = True
-                    # Condensation on the gaps in contact.  With the structure linear,
-                    # Du = K_hat^-1 (R0 - B F) = Du_lin - W F for the contact forces F
-                    # of the m active gaps, so the Newton iteration runs on F alone:
-                    #   F = F_law(delta_lin - G F, rate_lin - cc G F),  G = B^T W (m x m).
-                    # Its residual F - F_law(...) is exactly the full residual of the
-                    # step, which is nonzero only at the gap DOFs.
-                    _solve(Lf, p, R0, Du)
+                    # Condensation on the gaps in contact (module docstring): the
+                    # Newton iteration runs on their forces F alone.
                     scale = 0.0
                     for i in range(n):
                         scale = max(scale, abs(R0[i]))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 from pathlib import Path
 
@@ -20,8 +21,6 @@ def prepare_ground_motion(model):
 
     Free vibration (no ``[ground_motion]``) gives zeros and provenance None.
     """
-    from .motion import ground_acceleration, read_record
-
     an = model.analysis
     nsteps = an.nsteps
     spec = model.ground_motion
@@ -45,22 +44,19 @@ def prepare_ground_motion(model):
 def _read_prepared(file, mtime_ns, size, trace, units, calibration, scale, baseline, dt, nsteps):
     """Read and prepare a record once per (file version, settings): studies rerun the same record."""
     from .motion import ground_acceleration, read_record
-    from .model import GroundMotionSpec
 
-    spec = GroundMotionSpec(file=Path(file), trace=trace, units=units, scale=scale, calibration=calibration,
-                            baseline=baseline)
+    path = Path(file)
     try:
-        rec = read_record(spec.file, trace=spec.trace, units=spec.units, calibration=spec.calibration,
-                          scale=spec.scale)
-        if spec.baseline is not None:
-            rec = rec.baseline_corrected(order=spec.baseline)
+        rec = read_record(path, trace=trace, units=units, calibration=calibration, scale=scale)
+        if baseline is not None:
+            rec = rec.baseline_corrected(order=baseline)
         ag = ground_acceleration(rec, dt, nsteps * dt)
     except InputError as err:
         if err.key in ("units", "trace", "calibration", "scale", "baseline", "dt"):
             # a setting of the model file that does not fit the record
             section = "analysis" if err.key == "dt" else "ground_motion"
-            raise _SettingError(err.message, section, err.key, spec.file.name) from None
-        raise err.located(file=spec.file) from None
+            raise _SettingError(err.message, section, err.key, path.name) from None
+        raise err.located(file=path) from None
     ag.setflags(write=False)
     return ag, dict(rec.provenance)
 
@@ -96,6 +92,5 @@ def simulate(model, *, twin: bool = True) -> xr.Dataset:
     if twin:
         raw0 = integrate(system.without_contact(), ag, an.dt, an.nsteps, an.newmark, store_history=False)
     else:
-        raw0 = raw
-        raw0 = type(raw)(**{**raw.__dict__, "peak_displacement": np.full_like(raw.peak_displacement, np.nan)})
+        raw0 = dataclasses.replace(raw, peak_displacement=np.full_like(raw.peak_displacement, np.nan))
     return build_dataset(model, system, raw, raw0, ag, prov, __version__)

@@ -22,7 +22,8 @@ SHARED = (REPO / ".." / "shared" / "ground_motions").resolve()
 
 ELCENTRO_180 = BUNDLED / "RSN6_IMPVALL.I_I-ELC180-hor1.AT2"
 CORRALITOS_000 = BUNDLED / "RSN753_LOMAP_CLS000-hor1.AT2"
-NIS090 = SHARED / "pypi_pystrata-0.5.4" / "NIS090.AT2"
+# old-style header, bundled from the PyPI sdist pystrata==0.5.4 (tests/data/README.md)
+NIS090 = REPO / "tests" / "data" / "NIS090.AT2"
 
 BUNDLED_AT2 = sorted(BUNDLED.glob("*.AT2"))
 SHARED_AT2 = sorted(SHARED.rglob("*.AT2")) if SHARED.is_dir() else []
@@ -153,7 +154,6 @@ def test_corralitos_000_known_values():
 
 
 def test_nis090_old_style_header():
-    needs_shared()
     tr = obspy.read(str(NIS090))[0]
     assert tr.stats.npts == 4096
     assert tr.stats.delta == pytest.approx(0.01)

@@ -22,7 +22,7 @@ from .errors import InputError
 # (`seispound laws`, error paths) does not pay for numba and xarray up front.
 _LAZY = {
     "Model": ".model", "Analysis": ".model", "GroundMotionSpec": ".model", "load_model": ".model",
-    "simulate": ".simulate", "write_result": ".results", "open_result": ".results",
+    "simulate": ".simulation", "write_result": ".results", "open_result": ".results",
     "normalised_error": ".results",
 }
 

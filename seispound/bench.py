@@ -40,7 +40,7 @@ def run_benchmark(model_path=CANONICAL, repeat: int = 5) -> dict:
     from . import load_model, simulate
     from ._bare import bare_newmark
     from .integrate import integrate
-    from .simulate import prepare_ground_motion
+    from .simulation import prepare_ground_motion
     from .structure import assemble
 
     model = load_model(model_path)

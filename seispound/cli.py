@@ -57,7 +57,7 @@ def _run(args) -> int:
     from .integrate import IntegrationError
     from .model import load_model
     from .results import write_result
-    from .simulate import simulate
+    from .simulation import simulate
 
     model_path = Path(args.model)
     out = Path(args.output) if args.output else model_path.with_suffix(".h5")

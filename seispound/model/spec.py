@@ -31,7 +31,8 @@ class Analysis:
 
     @property
     def nsteps(self) -> int:
-        return int(round(self.duration / self.dt))
+        """Analysis steps: enough to cover ``duration`` (the last one may end past it)."""
+        return int(math.ceil(self.duration / self.dt - 1e-9))
 
 
 @dataclass

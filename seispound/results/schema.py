@@ -153,7 +153,7 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
         record=json.dumps(record_provenance) if record_provenance else "none",
         contact_law=json.dumps(sorted({l.law.name for l in links})),
         dt=float(model.analysis.dt),
-        duration=float(model.analysis.duration),
+        duration=float(model.analysis.nsteps * model.analysis.dt),
         newmark_beta=float(nm.beta),
         newmark_gamma=float(nm.gamma),
         integrator_stats=json.dumps(raw.stats),

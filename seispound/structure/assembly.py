@@ -87,26 +87,21 @@ class SystemArrays:
 
     def stiffness_matrix(self) -> np.ndarray:
         """Dense stiffness matrix [N/m], shape (n, n) (for checks and small problems)."""
-        K = np.zeros((self.n_dof, self.n_dof))
-        for i, j, k in zip(self.el_i, self.el_j, self.el_k):
-            K[i, i] += k
-            if j >= 0:
-                K[j, j] += k
-                K[i, j] -= k
-                K[j, i] -= k
-        return K
+        return self._springs(np.zeros((self.n_dof, self.n_dof)), self.el_k)
 
     def damping_matrix(self) -> np.ndarray:
         """Dense Rayleigh damping matrix [N s/m], shape (n, n)."""
-        C = np.diag(self.dof_a0 * self.mass)
-        for i, j, k, a1 in zip(self.el_i, self.el_j, self.el_k, self.el_a1):
-            c = a1 * k
-            C[i, i] += c
+        return self._springs(np.diag(self.dof_a0 * self.mass), self.el_a1 * self.el_k)
+
+    def _springs(self, A: np.ndarray, values) -> np.ndarray:
+        """Add the two-node elements with coefficients ``values`` into the dense matrix A."""
+        for i, j, c in zip(self.el_i, self.el_j, values):
+            A[i, i] += c
             if j >= 0:
-                C[j, j] += c
-                C[i, j] -= c
-                C[j, i] -= c
-        return C
+                A[j, j] += c
+                A[i, j] -= c
+                A[j, i] -= c
+        return A
 
 
 def assemble(buildings, gaps, default_law=None) -> SystemArrays:

@@ -166,6 +166,6 @@ def _positive_vector(value, key) -> np.ndarray:
         raise InputError("must be a non-empty list of numbers", key=key)
     bad = np.flatnonzero(~(np.isfinite(arr) & (arr > 0)))
     if bad.size:
-        raise InputError(f"every entry must be a finite number > 0; entry {bad[0] + 1} is {arr[bad[0]]!r}",
+        raise InputError(f"every entry must be a finite number > 0; entry {bad[0] + 1} is {float(arr[bad[0]]):g}",
                          key=key)
     return arr

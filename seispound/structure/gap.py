@@ -103,7 +103,7 @@ def expand_gap(gap: Gap, gap_index: int, buildings, default_law, key: str | None
         raise InputError("must be finite", key=f"{key}.size")
     if np.any(sizes < 0):
         raise InputError(f"must be >= 0 (a negative gap means the buildings overlap at rest), got "
-                         f"{sizes[sizes < 0][0]!r}", key=f"{key}.size")
+                         f"{float(sizes[sizes < 0][0]):g}", key=f"{key}.size")
     sizes = np.broadcast_to(sizes, (len(levels),))
     law = gap.law if gap.law is not None else default_law
     if law is None:

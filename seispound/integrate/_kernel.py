@@ -260,6 +260,169 @@ def _first_crossing(d0, r0, d1, r1, h, closing, tol):
 
 
 @njit(cache=True)
+def _to_modal(md_start, md_phi_tm, x, xq):
+    """Modal coordinates xq = Phi^T M x of a physical vector x (block by block)."""
+    for c in range(md_start.size - 1):
+        o = md_start[c]
+        nb = md_start[c + 1] - o
+        for j in range(nb):
+            s = 0.0
+            for i in range(nb):
+                s += md_phi_tm[o + j, i] * x[o + i]
+            xq[o + j] = s
+
+
+@njit(cache=True)
+def _from_modal(md_start, md_phi_t, Xq, Xt, nrow):
+    """Physical histories Xt[i, k] = sum_j Phi[i, j] Xq[j, k] for k < nrow (time-contiguous rows)."""
+    for c in range(md_start.size - 1):
+        o = md_start[c]
+        nb = md_start[c + 1] - o
+        for i in range(nb):
+            for k in range(nrow):
+                Xt[o + i, k] = 0.0
+            for j in range(nb):
+                coef = md_phi_t[o + j, i]
+                for k in range(nrow):  # contiguous in k: vectorised
+                    Xt[o + i, k] += coef * Xq[o + j, k]
+
+
+@njit(cache=True)
+def _column_from_modal(md_start, md_phi_t, Xq, k, x):
+    """One physical vector x = Phi Xq[:, k]."""
+    for c in range(md_start.size - 1):
+        o = md_start[c]
+        nb = md_start[c + 1] - o
+        for i in range(nb):
+            s = 0.0
+            for j in range(nb):
+                s += md_phi_t[o + j, i] * Xq[o + j, k]
+            x[o + i] = s
+
+
+@njit(cache=True)
+def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
+                 md_start, md_phi_t, md_w2, md_c, md_gam, md_khinv,
+                 q, qv, qa, Qt, QVt, QAt, Ut, Vt, At, Eb,
+                 mass, dof_motion, gap_i, gap_j, gap_size, gap_law, d0, r0,
+                 u, v, a, umax, out_u, out_v, out_a, out_f, out_e, e_in, w_int, e_cont, es0):
+    """March up to ``nblk`` analysis steps from step0 with every gap open, in modal coordinates.
+
+    The modal state (q, qv, qa) at step0 advances by the Newmark recurrence of
+    each mode (see ``modal.py``; exact Newmark, no solve), the physical
+    displacements and velocities follow as Phi q, and every gap is screened
+    step by step with the same test as the physical path.  Steps before the
+    first one in which a gap may close are accepted (outputs, peaks, energy,
+    carried gap states); the modal state then holds the last accepted step.
+
+    Returns (accepted steps, event found, e_in, w_int): with an event, the
+    physical state (u, v, a) is left at the last accepted step and the caller
+    takes the event's step physically.
+    """
+    n = mass.size
+    ng = gap_size.size
+    nm = ag.shape[0]
+    nb = min(nblk, nsteps - step0)
+    cm = 1.0 / (beta * dt * dt)
+    cc = gamma / (beta * dt)
+    c1 = 1.0 / (beta * dt)
+    c2 = 0.5 / beta - 1.0
+    c3 = 1.0 - gamma / beta
+    c4 = dt * (1.0 - 0.5 * gamma / beta)
+    # ---- speculative march of the modal equations (no contact) ----------------
+    for k in range(nb):
+        s1 = step0 + k + 1
+        de_in = 0.0
+        dw = 0.0
+        ek = 0.0
+        es = 0.0
+        for j in range(n):
+            pj = 0.0
+            pj0 = 0.0
+            for r in range(nm):
+                pj -= md_gam[r, j] * ag[r, s1]
+                pj0 -= md_gam[r, j] * ag[r, s1 - 1]
+            av = -c1 * qv[j] - c2 * qa[j]
+            vv = c3 * qv[j] + c4 * qa[j]
+            f0 = md_w2[j] * q[j] + md_c[j] * qv[j]  # modal storey + damping force at the start
+            dq = (pj - av - md_c[j] * vv - md_w2[j] * q[j]) * md_khinv[j]
+            q[j] += dq
+            qv[j] = vv + cc * dq
+            qa[j] = av + cm * dq
+            Qt[j, k] = q[j]
+            QVt[j, k] = qv[j]
+            QAt[j, k] = qa[j]
+            # energy (module docstring), each term in modal form: Du . f = dq . f_q
+            f1 = md_w2[j] * q[j] + md_c[j] * qv[j]
+            de_in += 0.5 * (pj0 + pj) * dq
+            dw += 0.5 * (f0 + f1) * dq
+            ek += 0.5 * qv[j] * qv[j]
+            es += 0.5 * md_w2[j] * q[j] * q[j]
+        Eb[0, k] = de_in
+        Eb[1, k] = dw
+        Eb[2, k] = ek
+        Eb[3, k] = es
+    _from_modal(md_start, md_phi_t, Qt, Ut, nb)
+    if ng > 0 or store:
+        _from_modal(md_start, md_phi_t, QVt, Vt, nb)
+    # ---- the first step in which any gap may close ---------------------------
+    n_acc = nb
+    for g in range(ng):
+        if gap_law[g] == NONE:
+            continue
+        ii = gap_i[g]
+        jj = gap_j[g]
+        dp = d0[g]
+        rp = r0[g]
+        for k in range(n_acc):
+            d1 = Ut[ii, k] - Ut[jj, k] - gap_size[g]
+            r1 = Vt[ii, k] - Vt[jj, k]
+            tol = LAND_TOL * max(abs(rp), abs(r1)) * dt + 1e-15
+            # same rigorous screen as the physical path (the Hermite bound)
+            bound = max(dp, d1) + (4.0 / 27.0) * dt * (max(rp, 0.0) + max(-r1, 0.0))
+            if bound > tol and _first_crossing(dp, rp, d1, r1, dt, True, tol) < 2.0:
+                n_acc = k  # later gaps need only look before this step
+                break
+            dp = d1
+            rp = r1
+    event = n_acc < nb
+    # ---- accept steps 0 .. n_acc - 1 ------------------------------------------
+    if n_acc == 0:
+        return 0, event, e_in, w_int
+    for i in range(n):
+        m = umax[i]
+        for k in range(n_acc):
+            m = max(m, abs(Ut[i, k]))
+        umax[i] = m
+    kl = n_acc - 1
+    for g in range(ng):
+        d0[g] = Ut[gap_i[g], kl] - Ut[gap_j[g], kl] - gap_size[g]
+        r0[g] = Vt[gap_i[g], kl] - Vt[gap_j[g], kl]
+    if store:
+        _from_modal(md_start, md_phi_t, QAt, At, n_acc)
+        for k in range(n_acc):
+            row = step0 + k + 1
+            for i in range(n):
+                out_u[row, i] = Ut[i, k]
+                out_v[row, i] = Vt[i, k]
+                out_a[row, i] = At[i, k] + ag[dof_motion[i], row]
+            for g in range(ng):
+                out_f[row, g] = 0.0
+            e_in += Eb[0, k]
+            w_int += Eb[1, k]
+            out_e[row, E_INPUT] = e_in
+            out_e[row, E_KINETIC] = Eb[2, k]
+            out_e[row, E_STRAIN] = Eb[3, k]
+            out_e[row, E_DAMPING] = w_int - (Eb[3, k] - es0)
+            out_e[row, E_CONTACT] = e_cont
+    # the physical state at the last accepted step (the physical path may take over)
+    _column_from_modal(md_start, md_phi_t, Qt, kl, u)
+    _column_from_modal(md_start, md_phi_t, QVt, kl, v)
+    _column_from_modal(md_start, md_phi_t, QAt, kl, a)
+    return n_acc, event, e_in, w_int
+
+
+@njit(cache=True)
 def _begin_impact(g, t, dg, rg, code, par, n_sub, active, zeta, hsub, age, cur_imp,
                   n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_fmax, imp_dur, imp_vout):
     """Open impact number ``n_imp`` at gap g: fix its damping from the approach
@@ -284,6 +447,7 @@ def _begin_impact(g, t, dg, rg, code, par, n_sub, active, zeta, hsub, age, cur_i
 def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                      u_init, v_init, gap_i, gap_j, gap_size, gap_law, gap_par,
                      ag, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store,
+                     use_modal, md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam, nblk,
                      out_u, out_v, out_a, out_f, out_e, umax, fmax,
                      imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta,
                      stats):
@@ -295,6 +459,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     out_f : (nt, ng); out_e : (nt, 5) (with store False: 1 row, the initial state);
     umax : (n,); fmax : (ng,);
     imp_* : (capacity,); stats : (5,) int64.
+    use_modal : march the steps with every gap open in blocks of up to nblk
+    steps in modal coordinates (``_free_flight``); md_* from ``modal.py``
+    (md_gam : (nm, n)); ignored (may be empty) when False.
     """
     n = mass.size
     ng = gap_size.size
@@ -350,6 +517,25 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     for s in range(stats.size):
         stats[s] = 0
     n_imp = 0
+    # free-flight blocks: modal state and block histories (time-contiguous rows)
+    nbw = nblk if use_modal else 1
+    nq = n if use_modal else 0
+    mq = np.empty(nq)
+    mqv = np.empty(nq)
+    mqa = np.empty(nq)
+    Qt = np.empty((nq, nbw))
+    QVt = np.empty((nq, nbw))
+    QAt = np.empty((nq, nbw))
+    Ut = np.empty((nq, nbw))
+    Vt = np.empty((nq, nbw))
+    At = np.empty((nq, nbw))
+    Eb = np.empty((4, nbw))
+    md_khinv = np.empty(nq)
+    for j in range(nq):
+        md_khinv[j] = 1.0 / (md_w2[j] + gamma / (beta * dt) * md_c[j] + 1.0 / (beta * dt * dt))
+    modal_current = False  # does (q, qv, qa) hold the current state?
+    block_from = 0  # first analysis step that may start a free-flight block
+    blk = 16  # current block length: short after an impact, doubling up to nblk
 
     if not _factor(dt, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[0]):
         return NEWTON_FAILED, 0, 0.0
@@ -414,7 +600,43 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
             m_act += 1
 
     hmin = 1e-9 * dt  # events closer than this to the step start switch in place
-    for step in range(nsteps):
+    step = 0
+    while step < nsteps:
+        if use_modal and m_act == 0 and step >= block_from:
+            # ---- every gap open: march a block of steps in modal coordinates ----
+            if not modal_current:
+                _to_modal(md_start, md_phi_tm, u, mq)
+                _to_modal(md_start, md_phi_tm, v, mqv)
+                _to_modal(md_start, md_phi_tm, a, mqa)
+                modal_current = True
+            if pending >= 0:  # the last physical row still lacks its strain energy
+                es = 0.0
+                for j in range(n):
+                    es += 0.5 * md_w2[j] * mq[j] * mq[j]
+                out_e[pending, E_STRAIN] = es
+                out_e[pending, E_DAMPING] -= es - es0
+                pending = -1
+            n_acc, event, e_in, w_int = _free_flight(
+                step, nsteps, min(blk, nblk), dt, beta, gamma, ag, store,
+                md_start, md_phi_t, md_w2, md_c, md_gam, md_khinv,
+                mq, mqv, mqa, Qt, QVt, QAt, Ut, Vt, At, Eb,
+                mass, dof_motion, gap_i, gap_j, gap_size, gap_law, d0, r0,
+                u, v, a, umax, out_u, out_v, out_a, out_f, out_e, e_in, w_int, e_cont, es0)
+            stats[S_STEPS] += n_acc
+            step += n_acc
+            t = step * dt
+            _ground_all(ag, t, dt, g_t)
+            if n_acc > 0:
+                for i in range(n):  # storey + damping forces from equilibrium (no contact)
+                    fint[i] = -mass[i] * (g_t[dof_motion[i]] + a[i])
+            if event:
+                block_from = step + 1  # the physical path takes the event's step
+                modal_current = False
+                blk = 16
+            else:
+                blk *= 2
+            continue
+        modal_current = False
         t_end = (step + 1) * dt
         while t_end - t > 1e-9 * dt:
             remaining = t_end - t
@@ -692,9 +914,10 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         a[gap_i[q]] -= F[q] / mass[gap_i[q]]
                         a[gap_j[q]] += F[q] / mass[gap_j[q]]
         # ---- output at the analysis step ---------------------------------------
+        step += 1
         if not store:
             continue  # peaks only (the no-pounding twin): no histories to write
-        k = step + 1
+        k = step
         ek = 0.0
         for i in range(n):
             out_u[k, i] = u[i]

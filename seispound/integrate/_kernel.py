@@ -64,7 +64,8 @@ IMPACT_CAPACITY = 2
 E_INPUT, E_KINETIC, E_STRAIN, E_DAMPING, E_CONTACT = 0, 1, 2, 3, 4
 
 # entries of the stats output
-S_STEPS, S_ITERATIONS, S_REJECTED, S_FACTORIZATIONS, S_MAX_ITER = 0, 1, 2, 3, 4
+S_STEPS, S_ITERATIONS, S_REJECTED, S_FACTORIZATIONS, S_MAX_ITER, S_FREE_FLIGHT, S_BLOCKS = 0, 1, 2, 3, 4, 5, 6
+N_STATS = 7
 
 
 @njit(cache=True)
@@ -259,67 +260,53 @@ def _first_crossing(d0, r0, d1, r1, h, closing, tol):
     return 2.0
 
 
-@njit(cache=True)
-def _to_modal(md_start, md_phi_tm, x, xq):
-    """Modal coordinates xq = Phi^T M x of a physical vector x (block by block)."""
-    for c in range(md_start.size - 1):
-        o = md_start[c]
-        nb = md_start[c + 1] - o
-        for j in range(nb):
-            s = 0.0
-            for i in range(nb):
-                s += md_phi_tm[o + j, i] * x[o + i]
-            xq[o + j] = s
+@njit(cache=True, fastmath=True)
+def _block_energy(nb, Q, QV, DQ, P, f_start, md_w2, md_c, Eb):
+    """Energy increments of a free-flight block, in modal form (Du . f = dq . f_q for mass-normalised modes).
 
-
-@njit(cache=True)
-def _from_modal(md_start, md_phi_t, Xq, Xt, nrow):
-    """Physical histories Xt[i, k] = sum_j Phi[i, j] Xq[j, k] for k < nrow (time-contiguous rows)."""
-    for c in range(md_start.size - 1):
-        o = md_start[c]
-        nb = md_start[c + 1] - o
-        for i in range(nb):
-            for k in range(nrow):
-                Xt[o + i, k] = 0.0
-            for j in range(nb):
-                coef = md_phi_t[o + j, i]
-                for k in range(nrow):  # contiguous in k: vectorised
-                    Xt[o + i, k] += coef * Xq[o + j, k]
-
-
-@njit(cache=True)
-def _column_from_modal(md_start, md_phi_t, Xq, k, x):
-    """One physical vector x = Phi Xq[:, k]."""
-    for c in range(md_start.size - 1):
-        o = md_start[c]
-        nb = md_start[c + 1] - o
-        for i in range(nb):
-            s = 0.0
-            for j in range(nb):
-                s += md_phi_t[o + j, i] * Xq[o + j, k]
-            x[o + i] = s
+    Eb[0, k]: input work of step k, 0.5 (p_k + p_k+1) . dq; Eb[1, k]: work of the storey
+    and damping forces, 0.5 (f_k + f_k+1) . dq with f = omega^2 q + c q'; Eb[2, k], Eb[3, k]:
+    kinetic and strain energy at its end.  (fastmath: the sums may be reassociated.)
+    """
+    n = md_w2.size
+    for k in range(nb):
+        de = 0.0
+        dw = 0.0
+        ek = 0.0
+        es = 0.0
+        for j in range(n):
+            f1 = md_w2[j] * Q[k, j] + md_c[j] * QV[k, j]
+            f0 = f_start[j] if k == 0 else md_w2[j] * Q[k - 1, j] + md_c[j] * QV[k - 1, j]
+            de += 0.5 * (P[k, j] + P[k + 1, j]) * DQ[k, j]
+            dw += 0.5 * (f0 + f1) * DQ[k, j]
+            ek += 0.5 * QV[k, j] * QV[k, j]
+            es += 0.5 * md_w2[j] * Q[k, j] * Q[k, j]
+        Eb[0, k] = de
+        Eb[1, k] = dw
+        Eb[2, k] = ek
+        Eb[3, k] = es
 
 
 @njit(cache=True)
 def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
-                 md_start, md_phi_t, md_w2, md_c, md_gam, md_khinv,
-                 q, qv, qa, Qt, QVt, QAt, Ut, Vt, At, Eb,
-                 mass, dof_motion, gap_i, gap_j, gap_size, gap_law, d0, r0,
+                 md_phi_t, md_w2, md_c, md_gam, md_khinv,
+                 mq, mqv, mqa, Q, QV, QA, DQ, P, U, V, f_start, Eb,
+                 dof_motion, gap_i, gap_j, gap_size, gap_law, d0, r0,
                  u, v, a, umax, out_u, out_v, out_a, out_f, out_e, e_in, w_int, e_cont, es0):
     """March up to ``nblk`` analysis steps from step0 with every gap open, in modal coordinates.
 
-    The modal state (q, qv, qa) at step0 advances by the Newmark recurrence of
-    each mode (see ``modal.py``; exact Newmark, no solve), the physical
-    displacements and velocities follow as Phi q, and every gap is screened
-    step by step with the same test as the physical path.  Steps before the
-    first one in which a gap may close are accepted (outputs, peaks, energy,
-    carried gap states); the modal state then holds the last accepted step.
+    The modal state (mq, mqv, mqa) at step0 advances by the Newmark recurrence
+    of each mode (``modal.py``: exact Newmark, no solve), displacements and
+    velocities follow as Phi q (one matrix product per block), and every gap is
+    screened step by step with the same test as the physical path.  The steps
+    before the first one in which a gap may close are accepted (outputs, peaks,
+    energy, carried gap states) and the physical state (u, v, a) is left at the
+    last of them.  Shapes: Q, QV, QA, DQ, U, V (nblk, n); P (nblk + 1, n).
 
-    Returns (accepted steps, event found, e_in, w_int): with an event, the
-    physical state (u, v, a) is left at the last accepted step and the caller
-    takes the event's step physically.
+    Returns (accepted steps, event found, e_in, w_int).  After an event the
+    modal state is stale (it ran on to the block's end).
     """
-    n = mass.size
+    n = mq.size
     ng = gap_size.size
     nm = ag.shape[0]
     nb = min(nblk, nsteps - step0)
@@ -329,42 +316,35 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
     c2 = 0.5 / beta - 1.0
     c3 = 1.0 - gamma / beta
     c4 = dt * (1.0 - 0.5 * gamma / beta)
+    # ---- modal loads p = -Gamma a_g at the block's steps -----------------------
+    for k in range(nb + 1):
+        for j in range(n):
+            P[k, j] = 0.0
+        for r in range(nm):
+            g = ag[r, step0 + k]
+            for j in range(n):
+                P[k, j] -= md_gam[r, j] * g
+    for j in range(n):
+        f_start[j] = md_w2[j] * mq[j] + md_c[j] * mqv[j]
     # ---- speculative march of the modal equations (no contact) ----------------
     for k in range(nb):
-        s1 = step0 + k + 1
-        de_in = 0.0
-        dw = 0.0
-        ek = 0.0
-        es = 0.0
-        for j in range(n):
-            pj = 0.0
-            pj0 = 0.0
-            for r in range(nm):
-                pj -= md_gam[r, j] * ag[r, s1]
-                pj0 -= md_gam[r, j] * ag[r, s1 - 1]
-            av = -c1 * qv[j] - c2 * qa[j]
-            vv = c3 * qv[j] + c4 * qa[j]
-            f0 = md_w2[j] * q[j] + md_c[j] * qv[j]  # modal storey + damping force at the start
-            dq = (pj - av - md_c[j] * vv - md_w2[j] * q[j]) * md_khinv[j]
-            q[j] += dq
-            qv[j] = vv + cc * dq
-            qa[j] = av + cm * dq
-            Qt[j, k] = q[j]
-            QVt[j, k] = qv[j]
-            QAt[j, k] = qa[j]
-            # energy (module docstring), each term in modal form: Du . f = dq . f_q
-            f1 = md_w2[j] * q[j] + md_c[j] * qv[j]
-            de_in += 0.5 * (pj0 + pj) * dq
-            dw += 0.5 * (f0 + f1) * dq
-            ek += 0.5 * qv[j] * qv[j]
-            es += 0.5 * md_w2[j] * q[j] * q[j]
-        Eb[0, k] = de_in
-        Eb[1, k] = dw
-        Eb[2, k] = ek
-        Eb[3, k] = es
-    _from_modal(md_start, md_phi_t, Qt, Ut, nb)
+        for j in range(n):  # every mode at once: vectorised over j
+            av = -c1 * mqv[j] - c2 * mqa[j]
+            vv = c3 * mqv[j] + c4 * mqa[j]
+            dq = (P[k + 1, j] - av - md_c[j] * vv - md_w2[j] * mq[j]) * md_khinv[j]
+            mq[j] += dq
+            mqv[j] = vv + cc * dq
+            mqa[j] = av + cm * dq
+            Q[k, j] = mq[j]
+            QV[k, j] = mqv[j]
+            QA[k, j] = mqa[j]
+            DQ[k, j] = dq
+    # physical rows u = Phi q (written straight into the histories when kept)
+    Ub = out_u[step0 + 1:step0 + 1 + nb] if store else U[:nb]
+    Vb = out_v[step0 + 1:step0 + 1 + nb] if store else V[:nb]
+    np.dot(Q[:nb], md_phi_t, Ub)
     if ng > 0 or store:
-        _from_modal(md_start, md_phi_t, QVt, Vt, nb)
+        np.dot(QV[:nb], md_phi_t, Vb)
     # ---- the first step in which any gap may close ---------------------------
     n_acc = nb
     for g in range(ng):
@@ -375,10 +355,10 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
         dp = d0[g]
         rp = r0[g]
         for k in range(n_acc):
-            d1 = Ut[ii, k] - Ut[jj, k] - gap_size[g]
-            r1 = Vt[ii, k] - Vt[jj, k]
+            d1 = Ub[k, ii] - Ub[k, jj] - gap_size[g]
+            r1 = Vb[k, ii] - Vb[k, jj]
             tol = LAND_TOL * max(abs(rp), abs(r1)) * dt + 1e-15
-            # same rigorous screen as the physical path (the Hermite bound)
+            # the physical path's rigorous screen (Hermite bound), then its search
             bound = max(dp, d1) + (4.0 / 27.0) * dt * (max(rp, 0.0) + max(-r1, 0.0))
             if bound > tol and _first_crossing(dp, rp, d1, r1, dt, True, tol) < 2.0:
                 n_acc = k  # later gaps need only look before this step
@@ -386,26 +366,24 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
             dp = d1
             rp = r1
     event = n_acc < nb
-    # ---- accept steps 0 .. n_acc - 1 ------------------------------------------
     if n_acc == 0:
         return 0, event, e_in, w_int
-    for i in range(n):
-        m = umax[i]
-        for k in range(n_acc):
-            m = max(m, abs(Ut[i, k]))
-        umax[i] = m
+    # ---- accept steps 0 .. n_acc - 1 ------------------------------------------
+    for k in range(n_acc):
+        for i in range(n):
+            umax[i] = max(umax[i], abs(Ub[k, i]))
     kl = n_acc - 1
     for g in range(ng):
-        d0[g] = Ut[gap_i[g], kl] - Ut[gap_j[g], kl] - gap_size[g]
-        r0[g] = Vt[gap_i[g], kl] - Vt[gap_j[g], kl]
+        d0[g] = Ub[kl, gap_i[g]] - Ub[kl, gap_j[g]] - gap_size[g]
+        r0[g] = Vb[kl, gap_i[g]] - Vb[kl, gap_j[g]]
     if store:
-        _from_modal(md_start, md_phi_t, QAt, At, n_acc)
+        np.dot(QA[:n_acc], md_phi_t, out_a[step0 + 1:step0 + 1 + n_acc])
+        _block_energy(n_acc, Q, QV, DQ, P, f_start, md_w2, md_c, Eb)
         for k in range(n_acc):
             row = step0 + k + 1
             for i in range(n):
-                out_u[row, i] = Ut[i, k]
-                out_v[row, i] = Vt[i, k]
-                out_a[row, i] = At[i, k] + ag[dof_motion[i], row]
+                a[i] = out_a[row, i]  # relative; the stored acceleration is absolute
+                out_a[row, i] = a[i] + ag[dof_motion[i], row]
             for g in range(ng):
                 out_f[row, g] = 0.0
             e_in += Eb[0, k]
@@ -415,10 +393,23 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
             out_e[row, E_STRAIN] = Eb[3, k]
             out_e[row, E_DAMPING] = w_int - (Eb[3, k] - es0)
             out_e[row, E_CONTACT] = e_cont
-    # the physical state at the last accepted step (the physical path may take over)
-    _column_from_modal(md_start, md_phi_t, Qt, kl, u)
-    _column_from_modal(md_start, md_phi_t, QVt, kl, v)
-    _column_from_modal(md_start, md_phi_t, QAt, kl, a)
+    else:
+        for i in range(n):
+            s = 0.0
+            for j in range(n):
+                s += QA[kl, j] * md_phi_t[j, i]
+            a[i] = s
+    for i in range(n):
+        u[i] = Ub[kl, i]
+    if ng > 0 or store:
+        for i in range(n):
+            v[i] = Vb[kl, i]
+    else:
+        for i in range(n):
+            s = 0.0
+            for j in range(n):
+                s += QV[kl, j] * md_phi_t[j, i]
+            v[i] = s
     return n_acc, event, e_in, w_int
 
 
@@ -447,7 +438,7 @@ def _begin_impact(g, t, dg, rg, code, par, n_sub, active, zeta, hsub, age, cur_i
 def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                      u_init, v_init, gap_i, gap_j, gap_size, gap_law, gap_par,
                      ag, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store,
-                     use_modal, md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam, nblk,
+                     use_modal, md_phi_t, md_phi_tm, md_w2, md_c, md_gam, nblk,
                      out_u, out_v, out_a, out_f, out_e, umax, fmax,
                      imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta,
                      stats):
@@ -458,7 +449,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     gap_par : (ng, N_PAR); ag : (nm, nt) [m/s^2]; out_u, out_v, out_a : (nt, n);
     out_f : (nt, ng); out_e : (nt, 5) (with store False: 1 row, the initial state);
     umax : (n,); fmax : (ng,);
-    imp_* : (capacity,); stats : (5,) int64.
+    imp_* : (capacity,); stats : (N_STATS,) int64.
     use_modal : march the steps with every gap open in blocks of up to nblk
     steps in modal coordinates (``_free_flight``); md_* from ``modal.py``
     (md_gam : (nm, n)); ignored (may be empty) when False.
@@ -523,12 +514,14 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     mq = np.empty(nq)
     mqv = np.empty(nq)
     mqa = np.empty(nq)
-    Qt = np.empty((nq, nbw))
-    QVt = np.empty((nq, nbw))
-    QAt = np.empty((nq, nbw))
-    Ut = np.empty((nq, nbw))
-    Vt = np.empty((nq, nbw))
-    At = np.empty((nq, nbw))
+    Qb = np.empty((nbw, nq))
+    QVb = np.empty((nbw, nq))
+    QAb = np.empty((nbw, nq))
+    DQb = np.empty((nbw, nq))
+    Pb = np.empty((nbw + 1, nq))
+    Ub = np.empty((nbw, nq))
+    Vb = np.empty((nbw, nq))
+    f_start = np.empty(nq)
     Eb = np.empty((4, nbw))
     md_khinv = np.empty(nq)
     for j in range(nq):
@@ -605,9 +598,14 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
         if use_modal and m_act == 0 and step >= block_from:
             # ---- every gap open: march a block of steps in modal coordinates ----
             if not modal_current:
-                _to_modal(md_start, md_phi_tm, u, mq)
-                _to_modal(md_start, md_phi_tm, v, mqv)
-                _to_modal(md_start, md_phi_tm, a, mqa)
+                for j in range(n):  # q = Phi^T M u
+                    mq[j] = 0.0
+                    mqv[j] = 0.0
+                    mqa[j] = 0.0
+                    for i in range(n):
+                        mq[j] += md_phi_tm[j, i] * u[i]
+                        mqv[j] += md_phi_tm[j, i] * v[i]
+                        mqa[j] += md_phi_tm[j, i] * a[i]
                 modal_current = True
             if pending >= 0:  # the last physical row still lacks its strain energy
                 es = 0.0
@@ -618,11 +616,13 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 pending = -1
             n_acc, event, e_in, w_int = _free_flight(
                 step, nsteps, min(blk, nblk), dt, beta, gamma, ag, store,
-                md_start, md_phi_t, md_w2, md_c, md_gam, md_khinv,
-                mq, mqv, mqa, Qt, QVt, QAt, Ut, Vt, At, Eb,
-                mass, dof_motion, gap_i, gap_j, gap_size, gap_law, d0, r0,
+                md_phi_t, md_w2, md_c, md_gam, md_khinv,
+                mq, mqv, mqa, Qb, QVb, QAb, DQb, Pb, Ub, Vb, f_start, Eb,
+                dof_motion, gap_i, gap_j, gap_size, gap_law, d0, r0,
                 u, v, a, umax, out_u, out_v, out_a, out_f, out_e, e_in, w_int, e_cont, es0)
             stats[S_STEPS] += n_acc
+            stats[S_FREE_FLIGHT] += n_acc
+            stats[S_BLOCKS] += 1
             step += n_acc
             t = step * dt
             _ground_all(ag, t, dt, g_t)

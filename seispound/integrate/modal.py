@@ -45,10 +45,11 @@ class ModalBasis:
     -------------------------------------------------------------------------
     start : (nc + 1,) int64
         First DOF of each block.
-    phi_t : (n, nb_max) float [1/sqrt(kg)]
-        ``phi_t[o + j, i]`` = Phi_c[i, j]: mode j of block c at its DOF i.
-    phi_tm : (n, nb_max) float [sqrt(kg)]
-        ``phi_tm[o + j, i]`` = Phi_c[i, j] m_(o+i), so that q = Phi^T M u.
+    phi_t : (n, n) float [1/sqrt(kg)]
+        Phi^T, block diagonal: ``phi_t[j, i]`` is mode j at DOF i, so that the
+        displacement rows of a block of steps are U = Q @ phi_t.
+    phi_tm : (n, n) float [sqrt(kg)]
+        Phi^T M, so that q = phi_tm @ u.
     omega2 : (n,) float [1/s^2]
         Squared circular frequency of each mode.
     c : (n,) float [1/s]
@@ -66,15 +67,9 @@ class ModalBasis:
 
         Shape (n_motion, n).  The modal load of mode j is -sum_r Gamma[r, j] a_g,r(t).
         """
-        n = mass.size
-        gam = np.zeros((n_motion, n))
-        for c in range(self.start.size - 1):
-            o, e = int(self.start[c]), int(self.start[c + 1])
-            nb = e - o
-            for r in range(n_motion):
-                iota = (dof_motion[o:e] == r).astype(float)
-                gam[r, o:e] = self.phi_tm[o:e, :nb] @ iota
-        return gam
+        iota = np.zeros((mass.size, n_motion))
+        iota[np.arange(mass.size), dof_motion] = 1.0
+        return np.ascontiguousarray((self.phi_tm @ iota).T)
 
 
 def _blocks(n: int, el_i: np.ndarray, el_j: np.ndarray) -> np.ndarray | None:
@@ -108,9 +103,8 @@ def modal_basis(system) -> ModalBasis | None:
     K = system.stiffness_matrix()
     C = system.damping_matrix()
     M = system.mass
-    nb_max = int(np.max(np.diff(start)))
-    phi_t = np.zeros((n, nb_max))
-    phi_tm = np.zeros((n, nb_max))
+    phi_t = np.zeros((n, n))
+    phi_tm = np.zeros((n, n))
     omega2 = np.empty(n)
     cmod = np.empty(n)
     for c in range(start.size - 1):
@@ -125,9 +119,8 @@ def modal_basis(system) -> ModalBasis | None:
         off = cq - np.diag(np.diag(cq))
         if np.max(np.abs(off), initial=0.0) > CLASSICAL_TOL * max(np.max(np.abs(np.diag(cq))), 1e-300):
             return None
-        nb = e - o
-        phi_t[o:e, :nb] = phi.T
-        phi_tm[o:e, :nb] = phi.T * Mc[None, :]
+        phi_t[o:e, o:e] = phi.T
+        phi_tm[o:e, o:e] = phi.T * Mc[None, :]
         omega2[o:e] = w2
         cmod[o:e] = np.diag(cq)
     return ModalBasis(start=start, phi_t=phi_t, phi_tm=phi_tm, omega2=omega2, c=cmod)

@@ -80,6 +80,20 @@ class RawResult:
     stats: dict = field(default_factory=dict)
 
 
+_BASES: dict = {}
+
+
+def _cached_basis(system):
+    """modal_basis(system), reused for systems with the same linear part (a run and its twin)."""
+    key = b"".join(np.ascontiguousarray(x).tobytes() for x in (
+        system.mass, system.dof_a0, system.el_i, system.el_j, system.el_k, system.el_a1))
+    if key not in _BASES:
+        if len(_BASES) >= 64:
+            _BASES.pop(next(iter(_BASES)))
+        _BASES[key] = modal_basis(system)
+    return _BASES[key]
+
+
 def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newmark | None = None,
               impact_capacity: int | None = None, store_history: bool = True,
               free_flight: bool = True) -> RawResult:
@@ -132,13 +146,13 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     # room for every impact up front: a catalogue overflow reruns the whole integration
     cap = impact_capacity or max(256, nsteps // 4 + 16 * ng)
     nt = nsteps + 1 if store_history else 1
-    basis = modal_basis(system) if free_flight else None
+    basis = _cached_basis(system) if free_flight else None
     if basis is not None:
-        md = (True, basis.start, basis.phi_t, basis.phi_tm, basis.omega2, basis.c,
+        md = (True, basis.phi_t, basis.phi_tm, basis.omega2, basis.c,
               basis.participation(system.mass, system.dof_motion, ag.shape[0]), FREE_FLIGHT_BLOCK)
     else:
-        e1, e2 = np.zeros(1, np.int64), np.zeros((0, 0))
-        md = (False, e1, e2, e2, np.zeros(0), np.zeros(0), e2, 1)
+        e2 = np.zeros((0, 0))
+        md = (False, e2, e2, np.zeros(0), np.zeros(0), e2, 1)
     while True:
         # one buffer for every history: numpy backs allocations >= 4 MiB with
         # transparent huge pages, which saves ~1e3 page faults per run
@@ -150,7 +164,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
             umax=np.empty(n), fmax=np.empty(ng),
             imp_gap=np.empty(cap, np.int64), imp_t0=np.empty(cap), imp_v0=np.empty(cap),
             imp_vout=np.empty(cap), imp_fmax=np.empty(cap), imp_dur=np.empty(cap), imp_zeta=np.empty(cap),
-            stats=np.zeros(5, np.int64),
+            stats=np.zeros(K.N_STATS, np.int64),
         )
         status, n_imp, t_reached = K.integrate_kernel(
             system.mass, system.dof_a0, system.dof_motion, system.el_i, system.el_j, system.el_k,
@@ -174,7 +188,8 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     st = out["stats"]
     stats = dict(steps=int(st[K.S_STEPS]), iterations=int(st[K.S_ITERATIONS]),
                  rejected=int(st[K.S_REJECTED]), factorizations=int(st[K.S_FACTORIZATIONS]),
-                 max_iterations=int(st[K.S_MAX_ITER]))
+                 max_iterations=int(st[K.S_MAX_ITER]), free_flight_steps=int(st[K.S_FREE_FLIGHT]),
+                 free_flight_blocks=int(st[K.S_BLOCKS]))
     return RawResult(time=np.arange(nt) * dt, displacement=out["out_u"], velocity=out["out_v"],
                      acceleration=out["out_a"], force=force, energy=out["out_e"],
                      peak_displacement=out["umax"], peak_force=peak_force, impacts=imp, stats=stats)

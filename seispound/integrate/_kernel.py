@@ -33,6 +33,16 @@ the contact is resolved independently of the analysis step.  At each event
 the acceleration is recomputed from equilibrium, because the contact force may
 jump there (LVe's dashpot).
 
+Free flight: while every gap is open, the buildings are linear and uncoupled.
+When they are also classically damped (``modal.py``), the kernel marches whole
+blocks of analysis steps in modal coordinates (``_free_flight``: the same
+Newmark recurrence per mode, no solve, Phi q for the physical rows, one matrix
+product per block), screens every gap at every step of the block with the
+same test as above, accepts the steps before the first one in which a gap may
+close, and hands that step to the physical path, starting from the block's
+own root estimate.  Blocks start at 16 steps after an impact and double up to
+``nblk``; the no-pounding twin runs in free flight throughout.
+
 Energy (relative frame; Uang & Bertero 1990) is accumulated with the
 trapezoidal work 0.5 (f0 + f1) . (u1 - u0), which for the average-acceleration
 method balances exactly: input = kinetic + strain + damping + contact.
@@ -93,6 +103,18 @@ def _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L):
                 L[i, i - j] -= kk
             else:
                 L[j, j - i] -= kk
+    if p == 1:  # shear buildings: tridiagonal, one straight-line recurrence (same arithmetic)
+        for j in range(n):
+            s = L[j, 0]
+            if j > 0:
+                lj = L[j, 1] * L[j - 1, 2]
+                L[j, 1] = lj
+                s -= lj * lj
+            if s <= 0.0:
+                return False
+            L[j, 0] = math.sqrt(s)
+            L[j, 2] = 1.0 / L[j, 0]
+        return True
     # in place: A is read from L's lower band before it is overwritten
     for j in range(n):
         s = L[j, 0]
@@ -136,7 +158,21 @@ def _solve(L, p, b, x):
 
 @njit(cache=True)
 def _dense_solve(m, A, b):
-    """Solve the small m x m system A y = b in place (partial pivoting); b becomes y."""
+    """Solve the small m x m system A y = b in place (partial pivoting); b becomes y.
+
+    One and two unknowns (most Newton iterations: one or two floors in
+    contact) are solved in closed form.
+    """
+    if m == 1:
+        b[0] /= A[0, 0]
+        return
+    if m == 2:
+        det = A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
+        if abs(det) > 1e-12 * (abs(A[0, 0] * A[1, 1]) + abs(A[0, 1] * A[1, 0])):
+            y0 = (b[0] * A[1, 1] - A[0, 1] * b[1]) / det
+            b[1] = (A[0, 0] * b[1] - A[1, 0] * b[0]) / det
+            b[0] = y0
+            return
     for c in range(m):
         piv = c
         for r in range(c + 1, m):
@@ -238,6 +274,8 @@ def _first_crossing(d0, r0, d1, r1, h, closing, tol):
         root = -cc / (2.0 * cb)
         if 0.0 < root < 1.0 and sgn * _hermite(root, d0, r0, d1, r1, h) > tol:
             s_ext = root
+    if s_ext > 1.0 and sgn * d1 <= tol and sgn * d0 <= tol:
+        return 2.0  # below tol at both ends and at every interior extremum: no crossing
     nsamp = 16
     prev = 0.0
     for k in range(1, nsamp + 1):
@@ -303,8 +341,9 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
     energy, carried gap states) and the physical state (u, v, a) is left at the
     last of them.  Shapes: Q, QV, QA, DQ, U, V (nblk, n); P (nblk + 1, n).
 
-    Returns (accepted steps, event found, e_in, w_int).  After an event the
-    modal state is stale (it ran on to the block's end).
+    Returns (accepted steps, event found, the event's fraction of its step and
+    its gap, e_in, w_int).  After an event the modal state is stale (it ran on
+    to the block's end).
     """
     n = mq.size
     ng = gap_size.size
@@ -347,6 +386,8 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
         np.dot(QV[:nb], md_phi_t, Vb)
     # ---- the first step in which any gap may close ---------------------------
     n_acc = nb
+    th_ev = 2.0  # the event's fraction of its step, and its gap
+    g_ev = -1
     for g in range(ng):
         if gap_law[g] == NONE:
             continue
@@ -354,20 +395,25 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
         jj = gap_j[g]
         dp = d0[g]
         rp = r0[g]
-        for k in range(n_acc):
+        for k in range(min(n_acc + 1, nb)):
             d1 = Ub[k, ii] - Ub[k, jj] - gap_size[g]
             r1 = Vb[k, ii] - Vb[k, jj]
             tol = LAND_TOL * max(abs(rp), abs(r1)) * dt + 1e-15
             # the physical path's rigorous screen (Hermite bound), then its search
             bound = max(dp, d1) + (4.0 / 27.0) * dt * (max(rp, 0.0) + max(-r1, 0.0))
-            if bound > tol and _first_crossing(dp, rp, d1, r1, dt, True, tol) < 2.0:
-                n_acc = k  # later gaps need only look before this step
-                break
+            if bound > tol:
+                th = _first_crossing(dp, rp, d1, r1, dt, True, tol)
+                if th < 2.0:
+                    if k < n_acc or th < th_ev:
+                        n_acc = k  # later gaps need only look up to this step
+                        th_ev = th
+                        g_ev = g
+                    break
             dp = d1
             rp = r1
     event = n_acc < nb
     if n_acc == 0:
-        return 0, event, e_in, w_int
+        return 0, event, th_ev, g_ev, e_in, w_int
     # ---- accept steps 0 .. n_acc - 1 ------------------------------------------
     for k in range(n_acc):
         for i in range(n):
@@ -410,7 +456,7 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
             for j in range(n):
                 s += QV[kl, j] * md_phi_t[j, i]
             v[i] = s
-    return n_acc, event, e_in, w_int
+    return n_acc, event, th_ev, g_ev, e_in, w_int
 
 
 @njit(cache=True)
@@ -529,6 +575,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     modal_current = False  # does (q, qv, qa) hold the current state?
     block_from = 0  # first analysis step that may start a free-flight block
     blk = 16  # current block length: short after an impact, doubling up to nblk
+    hint_step = -1  # the step in which a block saw an event, its fraction and gap
+    th_hint = 2.0
+    g_hint = -1
 
     if not _factor(dt, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[0]):
         return NEWTON_FAILED, 0, 0.0
@@ -614,7 +663,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 out_e[pending, E_STRAIN] = es
                 out_e[pending, E_DAMPING] -= es - es0
                 pending = -1
-            n_acc, event, e_in, w_int = _free_flight(
+            n_acc, event, th_hint, g_hint, e_in, w_int = _free_flight(
                 step, nsteps, min(blk, nblk), dt, beta, gamma, ag, store,
                 md_phi_t, md_w2, md_c, md_gam, md_khinv,
                 mq, mqv, mqa, Qb, QVb, QAb, DQb, Pb, Ub, Vb, f_start, Eb,
@@ -630,7 +679,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 for i in range(n):  # storey + damping forces from equilibrium (no contact)
                     fint[i] = -mass[i] * (g_t[dof_motion[i]] + a[i])
             if event:
-                block_from = step + 1  # the physical path takes the event's step
+                block_from = step + 1  # the physical path takes the event's step,
+                hint_step = step  # starting on the event the block located
                 modal_current = False
                 blk = 16
             else:
@@ -663,6 +713,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     h_nom = remaining  # absorb a sliver rather than step over it alone
             h = h_nom
             target = -1
+            if step == hint_step and t == step * dt and th_hint * h >= hmin:
+                h = th_hint * h  # the block's Hermite root: the physical path's first guess too
+                target = g_hint
             landed = False
             toggle_now = -1
             located = False

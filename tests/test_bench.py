@@ -19,3 +19,5 @@ def test_bench_reports_every_figure_and_consistent_ratios():
         assert r[key] > 0
     assert abs(r["run_over_bare"] - r["run_s"] / r["bare_loop_s"]) < 1e-12
     assert abs(r["ns_per_dof_step_bare"] - r["bare_loop_s"] / (8000 * 26) * 1e9) < 1e-9
+    assert 0 < r["free_flight_steps"] < r["steps_taken"] and r["rejected_steps"] >= 0
+    assert abs(r["ns_per_dof_step_taken_pounding"] - r["pounding_kernel_s"] / (r["steps_taken"] * 26) * 1e9) < 1e-9

@@ -743,7 +743,11 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     Lf = L_h
                 cm = 1.0 / (beta * h * h)
                 cc = gamma / (beta * h)
-                _ground_all(ag, t + h, dt, g_1)
+                if h == dt and t == step * dt:  # a whole analysis step: on the record's grid
+                    for r in range(nm):
+                        g_1[r] = ag[r, step + 1]
+                else:
+                    _ground_all(ag, t + h, dt, g_1)
                 # Newmark: a1 = cm Du + Av, v1 = cc Du + Vv
                 for i in range(n):
                     Av[i] = -v[i] / (beta * h) - (0.5 / beta - 1.0) * a[i]

@@ -65,13 +65,24 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
     for i, b in enumerate(model.buildings):
         heights[i, : b.n_floors] = b.floor_heights
 
-    u = _per_floor(raw.displacement, system, nb, nfmax)
-    below = np.concatenate([np.zeros(u.shape[:2] + (1,)), u[..., :-1]], axis=-1)
-    drift = u - below
+    # the four (time, building, floor) histories share one buffer: one large
+    # allocation is backed by huge pages (a few page faults instead of thousands)
+    nt = raw.displacement.shape[0]
+    hist = np.full((4, nt, nb, nfmax), np.nan)
+    b_of, f_of = system.dof_building, system.dof_floor - 1
+    u, vel, acc, drift = hist
+    u[:, b_of, f_of] = raw.displacement
+    vel[:, b_of, f_of] = raw.velocity
+    acc[:, b_of, f_of] = raw.acceleration
+    # drift per DOF: floor minus the floor below (the ground below the first)
+    below = np.full(system.n_dof, -1)
+    below[f_of > 0] = np.flatnonzero(f_of > 0) - 1
+    drift_dof = raw.displacement.copy()
+    drift_dof[:, f_of > 0] -= raw.displacement[:, below[f_of > 0]]
+    drift[:, b_of, f_of] = drift_dof
     peak = _per_floor(raw.peak_displacement, system, nb, nfmax)
     peak0 = _per_floor(raw_twin.peak_displacement, system, nb, nfmax)
-    valid = ~np.isnan(peak0)  # floors that exist
-    peak_drift = np.where(valid, np.max(np.abs(np.nan_to_num(drift)), axis=0), np.nan)
+    peak_drift = _per_floor(np.max(np.abs(drift_dof), axis=0, initial=0.0), system, nb, nfmax)
     with np.errstate(divide="ignore", invalid="ignore"):
         amp = np.where(peak0 > 0, peak / peak0, np.nan)
 
@@ -90,9 +101,9 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
     ds = xr.Dataset(
         data_vars=dict(
             displacement=var(tbf, u, "m", "floor displacement relative to the ground (+ to the right)"),
-            velocity=var(tbf, _per_floor(raw.velocity, system, nb, nfmax), "m/s",
+            velocity=var(tbf, vel, "m/s",
                          "floor velocity relative to the ground"),
-            acceleration=var(tbf, _per_floor(raw.acceleration, system, nb, nfmax), "m/s^2",
+            acceleration=var(tbf, acc, "m/s^2",
                              "absolute floor acceleration"),
             drift=var(tbf, drift, "m", "inter-storey drift (floor minus floor below)"),
             pounding_force=var(("time", "gap"), raw.force, "N", "pounding force (compression positive)"),

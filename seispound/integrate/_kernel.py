@@ -24,7 +24,8 @@ O(n * bandwidth), plus O(m^3) per iteration and O(n m) to recover Du.
 
 Contact events: the set of gaps in contact is frozen during a step.  After a
 step, a gap that opened or closed inside it (sign change of the penetration,
-or a grazing excursion seen by the cubic Hermite interpolant of delta) makes
+or a grazing excursion either way seen by the cubic Hermite interpolant of
+delta: a touch of an open gap, a brief separation of a closed one) makes
 the step be redone up to the event time, found as the first root of that
 interpolant; repeated until the step ends on the event within 1e-7 of the
 step's travel.  While any gap is closed the step is cut into substeps of
@@ -684,7 +685,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 modal_current = False
                 blk = 16
             else:
-                blk *= 2
+                blk = min(2 * blk, nblk)
             continue
         modal_current = False
         t_end = (step + 1) * dt
@@ -871,8 +872,12 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         bound = max(d0[g], d1) + (4.0 / 27.0) * h * (max(r0[g], 0.0) + max(-r1, 0.0))
                         if bound > tol:
                             th = _first_crossing(d0[g], r0[g], d1, r1, h, True, tol)
-                    elif d1 < -tol:
-                        th = _first_crossing(d0[g], r0[g], d1, r1, h, False, tol)
+                    else:
+                        # the same bound from below: a contact may also open and
+                        # close again inside one step (a grazing separation)
+                        bound = min(d0[g], d1) - (4.0 / 27.0) * h * (max(-r0[g], 0.0) + max(r1, 0.0))
+                        if bound < -tol:
+                            th = _first_crossing(d0[g], r0[g], d1, r1, h, False, tol)
                     if th < theta:
                         theta = th
                         g_ev = g

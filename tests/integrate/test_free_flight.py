@@ -98,3 +98,15 @@ def test_non_classical_damping_steps_physically():
     # and the energy still balances (the check does not depend on the modes)
     e = r.energy
     assert abs(e[-1, 0] - e[-1, 1:].sum()) <= 1e-12 * e[:, 0].max()
+
+
+def test_long_runs_keep_their_block_length_bounded():
+    """A twin of 100 000 steps (~400 blocks): the block length stays at most nblk (it once doubled without bound)."""
+    s = assemble([shear_building("A", 2, 0.3)], [])
+    ag1, _ = el_centro(39.0, 0.01)
+    nsteps = 100_000
+    ag = np.resize(ag1, nsteps + 1)  # the record repeated: a long, busy excitation
+    a = integrate(s, ag, 0.0004, nsteps, store_history=False)
+    b = integrate(s, ag, 0.0004, nsteps, store_history=False, free_flight=False)
+    assert a.stats["free_flight_steps"] == nsteps and a.stats["free_flight_blocks"] >= nsteps // 256
+    assert rel(a.peak_displacement, b.peak_displacement) <= TOL

@@ -1,0 +1,1 @@
+"""Benchmarks and peer comparisons (not part of the installed package)."""

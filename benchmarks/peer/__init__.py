@@ -1,0 +1,1 @@
+"""Peer comparison with OpenSees (OpenSeesPy): the same model, built from one seispound description."""

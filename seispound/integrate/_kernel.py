@@ -299,6 +299,55 @@ def _first_crossing(d0, r0, d1, r1, h, closing, tol):
     return 2.0
 
 
+@njit(cache=True)
+def _rows_from_modal(md_start, md_blocks_t, md_block_off, Q, nb, X, s_in, s_out):
+    """Physical rows X[k] = Phi Q[k], k < nb: one matrix product per block (building).
+
+    Each block's columns are gathered into a contiguous scratch so that the
+    product is one BLAS call of (nb x n_b) by (n_b x n_b): the cost per step is
+    the sum of n_b^2, linear in the number of buildings.
+    """
+    for c in range(md_start.size - 1):
+        o = md_start[c]
+        m = md_start[c + 1] - o
+        A = s_in[:nb * m].reshape((nb, m))
+        for k in range(nb):
+            for j in range(m):
+                A[k, j] = Q[k, o + j]
+        B = md_blocks_t[md_block_off[c]:md_block_off[c + 1]].reshape((m, m))
+        C = s_out[:nb * m].reshape((nb, m))
+        np.dot(A, B, C)
+        for k in range(nb):
+            for i in range(m):
+                X[k, o + i] = C[k, i]
+
+
+@njit(cache=True)
+def _row_from_modal(md_start, md_phi_t, Q, k, x):
+    """One physical vector x = Phi Q[k], block by block (md_phi_t = Phi^T)."""
+    for c in range(md_start.size - 1):
+        o = md_start[c]
+        e = md_start[c + 1]
+        for i in range(o, e):
+            s = 0.0
+            for j in range(o, e):
+                s += Q[k, j] * md_phi_t[j, i]
+            x[i] = s
+
+
+@njit(cache=True)
+def _to_modal(md_start, md_phi_tm, x, xq):
+    """Modal coordinates xq = Phi^T M x, block by block (md_phi_tm = Phi^T M)."""
+    for c in range(md_start.size - 1):
+        o = md_start[c]
+        e = md_start[c + 1]
+        for j in range(o, e):
+            s = 0.0
+            for i in range(o, e):
+                s += md_phi_tm[j, i] * x[i]
+            xq[j] = s
+
+
 @njit(cache=True, fastmath=True)
 def _block_energy(nb, Q, QV, DQ, P, f_start, md_w2, md_c, Eb):
     """Energy increments of a free-flight block, in modal form (Du . f = dq . f_q for mass-normalised modes).
@@ -328,7 +377,7 @@ def _block_energy(nb, Q, QV, DQ, P, f_start, md_w2, md_c, Eb):
 
 @njit(cache=True)
 def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
-                 md_phi_t, md_w2, md_c, md_gam, md_khinv,
+                 md_start, md_blocks_t, md_block_off, md_phi_t, md_w2, md_c, md_gam, md_khinv, s_in, s_out,
                  mq, mqv, mqa, Q, QV, QA, DQ, P, U, V, f_start, Eb,
                  dof_motion, gap_i, gap_j, gap_size, gap_law, d0, r0,
                  u, v, a, umax, out_u, out_v, out_a, out_f, out_e, e_in, w_int, e_cont, es0):
@@ -382,9 +431,9 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
     # physical rows u = Phi q (written straight into the histories when kept)
     Ub = out_u[step0 + 1:step0 + 1 + nb] if store else U[:nb]
     Vb = out_v[step0 + 1:step0 + 1 + nb] if store else V[:nb]
-    np.dot(Q[:nb], md_phi_t, Ub)
+    _rows_from_modal(md_start, md_blocks_t, md_block_off, Q, nb, Ub, s_in, s_out)
     if ng > 0 or store:
-        np.dot(QV[:nb], md_phi_t, Vb)
+        _rows_from_modal(md_start, md_blocks_t, md_block_off, QV, nb, Vb, s_in, s_out)
     # ---- the first step in which any gap may close ---------------------------
     n_acc = nb
     th_ev = 2.0  # the event's fraction of its step, and its gap
@@ -424,7 +473,8 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
         d0[g] = Ub[kl, gap_i[g]] - Ub[kl, gap_j[g]] - gap_size[g]
         r0[g] = Vb[kl, gap_i[g]] - Vb[kl, gap_j[g]]
     if store:
-        np.dot(QA[:n_acc], md_phi_t, out_a[step0 + 1:step0 + 1 + n_acc])
+        _rows_from_modal(md_start, md_blocks_t, md_block_off, QA, n_acc, out_a[step0 + 1:step0 + 1 + n_acc],
+                         s_in, s_out)
         _block_energy(n_acc, Q, QV, DQ, P, f_start, md_w2, md_c, Eb)
         for k in range(n_acc):
             row = step0 + k + 1
@@ -441,22 +491,14 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
             out_e[row, E_DAMPING] = w_int - (Eb[3, k] - es0)
             out_e[row, E_CONTACT] = e_cont
     else:
-        for i in range(n):
-            s = 0.0
-            for j in range(n):
-                s += QA[kl, j] * md_phi_t[j, i]
-            a[i] = s
+        _row_from_modal(md_start, md_phi_t, QA, kl, a)
     for i in range(n):
         u[i] = Ub[kl, i]
     if ng > 0 or store:
         for i in range(n):
             v[i] = Vb[kl, i]
     else:
-        for i in range(n):
-            s = 0.0
-            for j in range(n):
-                s += QV[kl, j] * md_phi_t[j, i]
-            v[i] = s
+        _row_from_modal(md_start, md_phi_t, QV, kl, v)
     return n_acc, event, th_ev, g_ev, e_in, w_int
 
 
@@ -485,7 +527,8 @@ def _begin_impact(g, t, dg, rg, code, par, n_sub, active, zeta, hsub, age, cur_i
 def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                      u_init, v_init, gap_i, gap_j, gap_size, gap_law, gap_par,
                      ag, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store,
-                     use_modal, md_phi_t, md_phi_tm, md_w2, md_c, md_gam, nblk,
+                     use_modal, md_start, md_blocks_t, md_block_off, md_phi_t, md_phi_tm, md_w2, md_c,
+                     md_gam, nblk,
                      out_u, out_v, out_a, out_f, out_e, umax, fmax,
                      imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta,
                      stats):
@@ -499,7 +542,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     imp_* : (capacity,); stats : (N_STATS,) int64.
     use_modal : march the steps with every gap open in blocks of up to nblk
     steps in modal coordinates (``_free_flight``); md_* from ``modal.py``
-    (md_gam : (nm, n)); ignored (may be empty) when False.
+    (md_start : (nc + 1,) block starts; md_blocks_t, md_block_off: each
+    block's Phi^T; md_phi_t, md_phi_tm : (n, n); md_w2, md_c : (n,);
+    md_gam : (nm, n)); ignored (may be empty) when False.
     """
     n = mass.size
     ng = gap_size.size
@@ -569,6 +614,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     Ub = np.empty((nbw, nq))
     Vb = np.empty((nbw, nq))
     f_start = np.empty(nq)
+    s_in = np.empty(nbw * nq)  # scratch of the per-block products
+    s_out = np.empty(nbw * nq)
     Eb = np.empty((4, nbw))
     md_khinv = np.empty(nq)
     for j in range(nq):
@@ -648,14 +695,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
         if use_modal and m_act == 0 and step >= block_from:
             # ---- every gap open: march a block of steps in modal coordinates ----
             if not modal_current:
-                for j in range(n):  # q = Phi^T M u
-                    mq[j] = 0.0
-                    mqv[j] = 0.0
-                    mqa[j] = 0.0
-                    for i in range(n):
-                        mq[j] += md_phi_tm[j, i] * u[i]
-                        mqv[j] += md_phi_tm[j, i] * v[i]
-                        mqa[j] += md_phi_tm[j, i] * a[i]
+                _to_modal(md_start, md_phi_tm, u, mq)
+                _to_modal(md_start, md_phi_tm, v, mqv)
+                _to_modal(md_start, md_phi_tm, a, mqa)
                 modal_current = True
             if pending >= 0:  # the last physical row still lacks its strain energy
                 es = 0.0
@@ -666,7 +708,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 pending = -1
             n_acc, event, th_hint, g_hint, e_in, w_int = _free_flight(
                 step, nsteps, min(blk, nblk), dt, beta, gamma, ag, store,
-                md_phi_t, md_w2, md_c, md_gam, md_khinv,
+                md_start, md_blocks_t, md_block_off, md_phi_t, md_w2, md_c, md_gam, md_khinv, s_in, s_out,
                 mq, mqv, mqa, Qb, QVb, QAb, DQb, Pb, Ub, Vb, f_start, Eb,
                 dof_motion, gap_i, gap_j, gap_size, gap_law, d0, r0,
                 u, v, a, umax, out_u, out_v, out_a, out_f, out_e, e_in, w_int, e_cont, es0)

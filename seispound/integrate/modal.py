@@ -36,6 +36,12 @@ __all__ = ["ModalBasis", "modal_basis"]
 # fraction of its largest diagonal term.
 CLASSICAL_TOL = 1e-9
 
+# Largest block (building) stepped in modal form.  Free flight costs about n_b
+# multiply-adds per DOF and step (u = Phi q), a physical step a fixed ~30 flops
+# per DOF: beyond ~64 storeys the physical step is the cheaper, and the cost of
+# a run stays linear in the number of storeys.
+MAX_MODAL_BLOCK = 64
+
 
 @dataclass(frozen=True)
 class ModalBasis:
@@ -50,6 +56,11 @@ class ModalBasis:
         displacement rows of a block of steps are U = Q @ phi_t.
     phi_tm : (n, n) float [sqrt(kg)]
         Phi^T M, so that q = phi_tm @ u.
+    blocks_t : (sum of n_b^2,) float [1/sqrt(kg)]
+        Each block's Phi_c^T, row-major, one after the other (the kernel's
+        per-block matrix products).
+    block_offset : (nc + 1,) int64
+        Where each block starts in ``blocks_t``.
     omega2 : (n,) float [1/s^2]
         Squared circular frequency of each mode.
     c : (n,) float [1/s]
@@ -59,6 +70,8 @@ class ModalBasis:
     start: np.ndarray
     phi_t: np.ndarray
     phi_tm: np.ndarray
+    blocks_t: np.ndarray
+    block_offset: np.ndarray
     omega2: np.ndarray
     c: np.ndarray
 
@@ -93,13 +106,16 @@ def _blocks(n: int, el_i: np.ndarray, el_j: np.ndarray) -> np.ndarray | None:
 def modal_basis(system) -> ModalBasis | None:
     """Mass-normalised modes of each building of ``system`` (SystemArrays), or None.
 
-    None when some block's damping is not classical (Phi^T C Phi not diagonal)
-    or its stiffness is singular; the kernel then steps physically throughout.
+    None when some block's damping is not classical (Phi^T C Phi not diagonal),
+    its stiffness is singular or it has more than ``MAX_MODAL_BLOCK`` DOFs; the
+    kernel then steps physically throughout.
     """
     n = system.n_dof
     if n == 0:
         return None
     start = _blocks(n, system.el_i, system.el_j)
+    if np.max(np.diff(start)) > MAX_MODAL_BLOCK:
+        return None
     K = system.stiffness_matrix()
     C = system.damping_matrix()
     M = system.mass
@@ -107,6 +123,9 @@ def modal_basis(system) -> ModalBasis | None:
     phi_tm = np.zeros((n, n))
     omega2 = np.empty(n)
     cmod = np.empty(n)
+    sizes = np.diff(start)
+    block_offset = np.concatenate([[0], np.cumsum(sizes * sizes)]).astype(np.int64)
+    blocks_t = np.empty(int(block_offset[-1]))
     for c in range(start.size - 1):
         o, e = int(start[c]), int(start[c + 1])
         if np.any(K[o:e, :o]) or np.any(K[o:e, e:]) or np.any(C[o:e, :o]) or np.any(C[o:e, e:]):
@@ -120,7 +139,9 @@ def modal_basis(system) -> ModalBasis | None:
         if np.max(np.abs(off), initial=0.0) > CLASSICAL_TOL * max(np.max(np.abs(np.diag(cq))), 1e-300):
             return None
         phi_t[o:e, o:e] = phi.T
+        blocks_t[block_offset[c]:block_offset[c + 1]] = np.ascontiguousarray(phi.T).ravel()
         phi_tm[o:e, o:e] = phi.T * Mc[None, :]
         omega2[o:e] = w2
         cmod[o:e] = np.diag(cq)
-    return ModalBasis(start=start, phi_t=phi_t, phi_tm=phi_tm, omega2=omega2, c=cmod)
+    return ModalBasis(start=start, phi_t=phi_t, phi_tm=phi_tm, blocks_t=blocks_t, block_offset=block_offset,
+                      omega2=omega2, c=cmod)

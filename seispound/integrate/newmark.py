@@ -148,11 +148,12 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     nt = nsteps + 1 if store_history else 1
     basis = _cached_basis(system) if free_flight else None
     if basis is not None:
-        md = (True, basis.phi_t, basis.phi_tm, basis.omega2, basis.c,
+        md = (True, basis.start, basis.blocks_t, basis.block_offset, basis.phi_t, basis.phi_tm, basis.omega2, basis.c,
               basis.participation(system.mass, system.dof_motion, ag.shape[0]), FREE_FLIGHT_BLOCK)
     else:
         e2 = np.zeros((0, 0))
-        md = (False, e2, e2, np.zeros(0), np.zeros(0), e2, 1)
+        e1 = np.zeros(1, np.int64)
+        md = (False, e1, np.zeros(0), e1, e2, e2, np.zeros(0), np.zeros(0), e2, 1)
     while True:
         # one buffer for every history: numpy backs allocations >= 4 MiB with
         # transparent huge pages, which saves ~1e3 page faults per run

@@ -114,7 +114,7 @@ def main(argv=None) -> int:
     ap.add_argument("--out", default="docs/peer.json")
     args = ap.parse_args(argv)
     cases = benchmark_cases(args.duration)
-    results = dict(agreement=[], convergence=[], speed=[])
+    results = dict(duration=args.duration, agreement=[], convergence=[], speed=[])
     for case in cases:
         t0 = time.perf_counter()
         row = compare_case(case, OPENSEES_STEPS[-1])

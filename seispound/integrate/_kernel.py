@@ -136,23 +136,32 @@ def _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L):
 @njit(cache=True)
 def _solve(L, p, b, x):
     """x = K_hat^-1 b with the banded Cholesky factor L (x may alias nothing)."""
-    n = b.size
+    _solve_range(L, p, b, x, 0, b.size)
+
+
+@njit(cache=True)
+def _solve_range(L, p, b, x, lo, hi):
+    """x[lo:hi] = K_hat^-1 b on DOFs lo..hi-1, a union of whole uncoupled blocks (buildings).
+
+    K_hat is block diagonal over the buildings, so with b zero outside
+    [lo, hi) the solution is zero there too and only these rows take part.
+    """
     if p == 1:  # shear buildings: tridiagonal, straight-line recurrences
-        x[0] = b[0] * L[0, 2]
-        for i in range(1, n):
+        x[lo] = b[lo] * L[lo, 2]
+        for i in range(lo + 1, hi):
             x[i] = (b[i] - L[i, 1] * x[i - 1]) * L[i, 2]
-        x[n - 1] *= L[n - 1, 2]
-        for i in range(n - 2, -1, -1):
+        x[hi - 1] *= L[hi - 1, 2]
+        for i in range(hi - 2, lo - 1, -1):
             x[i] = (x[i] - L[i + 1, 1] * x[i + 1]) * L[i, 2]
         return
-    for i in range(n):
+    for i in range(lo, hi):
         s = b[i]
-        for k in range(max(0, i - p), i):
+        for k in range(max(lo, i - p), i):
             s -= L[i, i - k] * x[k]
         x[i] = s * L[i, p + 1]
-    for i in range(n - 1, -1, -1):
+    for i in range(hi - 1, lo - 1, -1):
         s = x[i]
-        for k in range(i + 1, min(n, i + p + 1)):
+        for k in range(i + 1, min(hi, i + p + 1)):
             s -= L[k, k - i] * x[k]
         x[i] = s * L[i, p + 1]
 
@@ -525,7 +534,7 @@ def _begin_impact(g, t, dg, rg, code, par, n_sub, active, zeta, hsub, age, cur_i
 
 @njit(cache=True)
 def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
-                     u_init, v_init, gap_i, gap_j, gap_size, gap_law, gap_par,
+                     u_init, v_init, gap_i, gap_j, gap_lo, gap_hi, gap_size, gap_law, gap_par,
                      ag, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store,
                      use_modal, md_start, md_blocks_t, md_block_off, md_phi_t, md_phi_tm, md_w2, md_c,
                      md_gam, nblk,
@@ -536,6 +545,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
 
     Shapes: n DOFs, ne elements, ng gaps, nm base motions, nt = nsteps + 1.
     mass, dof_a0, dof_motion, u_init, v_init : (n,); el_* : (ne,); gap_* : (ng,),
+    gap_lo, gap_hi: the DOF range of the blocks (buildings) each gap links,
     gap_par : (ng, N_PAR); ag : (nm, nt) [m/s^2]; out_u, out_v, out_a : (nt, n);
     out_f : (nt, ng); out_e : (nt, 5) (with store False: 1 row, the initial state);
     umax : (n,); fmax : (ng,);
@@ -572,7 +582,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     Av = np.empty(n)
     Vv = np.empty(n)
     ngw = max(ng, 1)
-    Wc = np.empty((ngw, n))  # Woodbury columns K_hat^-1 b_g for the current factor
+    # Woodbury columns K_hat^-1 b_g for the current factor: nonzero only on the
+    # DOFs gap_lo[g]..gap_hi[g]-1 of the two buildings the gap links (zero elsewhere)
+    Wc = np.zeros((ngw, n))
     Wc_ok = np.zeros(ngw, np.bool_)
     Wc_lev = -2
     Sm = np.empty((ngw, ngw))
@@ -818,11 +830,11 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     for q in range(m_act):
                         g = act_list[q]
                         if not Wc_ok[g]:
-                            for i in range(n):
+                            for i in range(gap_lo[g], gap_hi[g]):
                                 z[i] = 0.0
                             z[gap_i[g]] = 1.0
                             z[gap_j[g]] = -1.0
-                            _solve(Lf, p, z, Wc[g])
+                            _solve_range(Lf, p, z, Wc[g], gap_lo[g], gap_hi[g])
                             Wc_ok[g] = True
                     # Condensation on the gaps in contact (module docstring): the
                     # Newton iteration runs on their forces F alone.
@@ -874,7 +886,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         g = act_list[q]
                         F1[g] = Fm[q]
                         if Fm[q] != 0.0:
-                            for i in range(n):
+                            for i in range(gap_lo[g], gap_hi[g]):
                                 Du[i] -= Fm[q] * Wc[g, i]
                     if it > stats[S_MAX_ITER]:
                         stats[S_MAX_ITER] = it

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import eigh
 
-__all__ = ["ModalBasis", "modal_basis"]
+__all__ = ["ModalBasis", "modal_basis", "dof_blocks"]
 
 # Phi^T C Phi counts as diagonal when its off-diagonal terms are below this
 # fraction of its largest diagonal term.
@@ -85,8 +85,12 @@ class ModalBasis:
         return np.ascontiguousarray((self.phi_tm @ iota).T)
 
 
-def _blocks(n: int, el_i: np.ndarray, el_j: np.ndarray) -> np.ndarray | None:
-    """Contiguous DOF blocks coupled by elements, or None if some element spans two blocks' ranges."""
+def dof_blocks(n: int, el_i: np.ndarray, el_j: np.ndarray) -> np.ndarray:
+    """Starts of the contiguous DOF blocks that no element couples to each other, shape (nb + 1,).
+
+    A block is the smallest contiguous range closed under the elements (a
+    building, or several if a spring joins them); K and C are block diagonal.
+    """
     # union of the index ranges [min(i, j), max(i, j)] of the coupling elements
     reach = np.arange(n)
     coupled = el_j >= 0
@@ -113,7 +117,7 @@ def modal_basis(system) -> ModalBasis | None:
     n = system.n_dof
     if n == 0:
         return None
-    start = _blocks(n, system.el_i, system.el_j)
+    start = dof_blocks(n, system.el_i, system.el_j)
     if np.max(np.diff(start)) > MAX_MODAL_BLOCK:
         return None
     K = system.stiffness_matrix()

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..errors import InputError
 from . import _kernel as K
-from .modal import modal_basis
+from .modal import dof_blocks, modal_basis
 
 # longest free-flight block [analysis steps]; blocks start at 16 after an impact
 FREE_FLIGHT_BLOCK = 256
@@ -143,6 +143,11 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     gap_i, gap_j = system.gap_i[live], system.gap_j[live]
     gap_size, gap_law, gap_par = system.gap_size[live], system.gap_law[live], system.gap_par[live]
     ng = live.size
+    # the DOF range of the blocks each gap links: its Woodbury column lives there
+    starts = dof_blocks(n, system.el_i, system.el_j)
+    blk_of = np.searchsorted(starts, np.arange(n), side="right") - 1
+    gap_lo = np.minimum(starts[blk_of[gap_i]], starts[blk_of[gap_j]]).astype(np.int64)
+    gap_hi = np.maximum(starts[blk_of[gap_i] + 1], starts[blk_of[gap_j] + 1]).astype(np.int64)
     # room for every impact up front: a catalogue overflow reruns the whole integration
     cap = impact_capacity or max(256, nsteps // 4 + 16 * ng)
     nt = nsteps + 1 if store_history else 1
@@ -169,7 +174,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         )
         status, n_imp, t_reached = K.integrate_kernel(
             system.mass, system.dof_a0, system.dof_motion, system.el_i, system.el_j, system.el_k,
-            system.el_a1, int(system.bandwidth), system.u0, system.v0, gap_i, gap_j,
+            system.el_a1, int(system.bandwidth), system.u0, system.v0, gap_i, gap_j, gap_lo, gap_hi,
             gap_size, gap_law, np.ascontiguousarray(gap_par), np.ascontiguousarray(ag), float(dt),
             int(nsteps), float(nm.beta), float(nm.gamma), int(nm.contact_substeps), float(nm.rtol),
             int(nm.max_iter), bool(store_history), *md, **out)

@@ -16,9 +16,6 @@ growth shows as a flat cost per DOF-step.
 from __future__ import annotations
 
 import argparse
-import statistics
-import time
-
 import numpy as np
 
 from seispound import load_model
@@ -26,6 +23,7 @@ from seispound._bare import bare_newmark
 from seispound.contact import make_law
 from seispound.integrate import integrate
 from seispound.motion import read_record
+from seispound.bench import _median_time
 from seispound.motion.catalogue import bundled_path
 from seispound.structure import Building, Gap, RayleighDamping, assemble
 
@@ -58,13 +56,8 @@ def _ground(duration: float, dt: float) -> tuple[np.ndarray, int]:
 
 
 def _time(fn, repeat):
-    fn()
-    ts = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t0)
-    return statistics.median(ts)
+    fn()  # compile / warm up
+    return _median_time(fn, repeat)
 
 
 def measure(system, ag, dt, nsteps, repeat=5) -> dict:

@@ -17,7 +17,7 @@ state (with El Centro's a_g(0) = 0.0098 m/s^2 the linear responses differ by
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np

@@ -14,7 +14,6 @@ import argparse
 import json
 import statistics
 import time
-from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -23,7 +22,7 @@ from seispound.integrate import Newmark, integrate
 from seispound.structure import assemble
 
 from .cases import PeerCase, benchmark_cases
-from .opensees import PeerResult, count_impacts, run_opensees
+from .opensees import PeerResult, run_opensees
 
 # OpenSees' steps, halved from 1 ms: it has no event location, so its impacts
 # converge only as dt -> 0

@@ -121,7 +121,6 @@ def run_opensees(model, ag: np.ndarray, dt: float, nsteps: int, tol: float = 1e-
     ``unconverged_steps``.
     """
     ops = import_opensees()
-    law = model.contact.name if model.contact is not None else None
     system = assemble(model.buildings, model.gaps, model.contact)
     for g in range(system.n_gap):
         name = system.links[g].law.name

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from benchmarks.peer.cases import PAIR, PeerCase
-from benchmarks.peer.compare import compare_case, run_seispound
+from benchmarks.peer.compare import compare_case
 from benchmarks.peer.opensees import run_opensees
 
 

@@ -332,29 +332,20 @@ def _rows_from_modal(md_start, md_blocks_t, md_block_off, Q, nb, X, s_in, s_out)
 
 
 @njit(cache=True)
-def _row_from_modal(md_start, md_phi_t, Q, k, x):
-    """One physical vector x = Phi Q[k], block by block (md_phi_t = Phi^T)."""
+def _block_matvec(md_start, A, x, y, transposed):
+    """y = A x (or A^T x) for a block-diagonal A, block by block.
+
+    With A = md_phi_tm (Phi^T M): modal coordinates of a physical vector; with
+    A = md_phi_t (Phi^T) and ``transposed``: the physical vector of modal ones.
+    """
     for c in range(md_start.size - 1):
         o = md_start[c]
         e = md_start[c + 1]
-        for i in range(o, e):
+        for r in range(o, e):
             s = 0.0
-            for j in range(o, e):
-                s += Q[k, j] * md_phi_t[j, i]
-            x[i] = s
-
-
-@njit(cache=True)
-def _to_modal(md_start, md_phi_tm, x, xq):
-    """Modal coordinates xq = Phi^T M x, block by block (md_phi_tm = Phi^T M)."""
-    for c in range(md_start.size - 1):
-        o = md_start[c]
-        e = md_start[c + 1]
-        for j in range(o, e):
-            s = 0.0
-            for i in range(o, e):
-                s += md_phi_tm[j, i] * x[i]
-            xq[j] = s
+            for q in range(o, e):
+                s += (A[q, r] if transposed else A[r, q]) * x[q]
+            y[r] = s
 
 
 @njit(cache=True, fastmath=True)
@@ -500,14 +491,14 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
             out_e[row, E_DAMPING] = w_int - (Eb[3, k] - es0)
             out_e[row, E_CONTACT] = e_cont
     else:
-        _row_from_modal(md_start, md_phi_t, QA, kl, a)
+        _block_matvec(md_start, md_phi_t, QA[kl], a, True)
     for i in range(n):
         u[i] = Ub[kl, i]
     if ng > 0 or store:
         for i in range(n):
             v[i] = Vb[kl, i]
     else:
-        _row_from_modal(md_start, md_phi_t, QV, kl, v)
+        _block_matvec(md_start, md_phi_t, QV[kl], v, True)
     return n_acc, event, th_ev, g_ev, e_in, w_int
 
 
@@ -707,9 +698,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
         if use_modal and m_act == 0 and step >= block_from:
             # ---- every gap open: march a block of steps in modal coordinates ----
             if not modal_current:
-                _to_modal(md_start, md_phi_tm, u, mq)
-                _to_modal(md_start, md_phi_tm, v, mqv)
-                _to_modal(md_start, md_phi_tm, a, mqa)
+                _block_matvec(md_start, md_phi_tm, u, mq, False)
+                _block_matvec(md_start, md_phi_tm, v, mqv, False)
+                _block_matvec(md_start, md_phi_tm, a, mqa, False)
                 modal_current = True
             if pending >= 0:  # the last physical row still lacks its strain energy
                 es = 0.0

@@ -167,6 +167,44 @@ def _solve_range(L, p, b, x, lo, hi):
 
 
 @njit(cache=True)
+def _woodbury_columns(L, p, W, rows, nr, lo, hi, gap_i, gap_j):
+    """W[g, lo:hi] = K_hat^-1 b_g for the nr gaps g = rows[:nr], which all link the same blocks lo..hi-1.
+
+    Solved together: in the tridiagonal sweeps the nr right-hand sides are
+    independent recurrences, interleaved so that they overlap in the pipeline
+    (a single sweep is latency bound).
+    """
+    for r in range(nr):
+        g = rows[r]
+        for i in range(lo, hi):
+            W[g, i] = 0.0
+        W[g, gap_i[g]] = 1.0
+        W[g, gap_j[g]] = -1.0
+    if p != 1:
+        for r in range(nr):
+            _solve_range(L, p, W[rows[r]], W[rows[r]], lo, hi)  # in place: b[i] is read before x[i] is written
+        return
+    d = L[lo, 2]
+    for r in range(nr):
+        W[rows[r], lo] *= d
+    for i in range(lo + 1, hi):
+        l1 = L[i, 1]
+        d = L[i, 2]
+        for r in range(nr):
+            g = rows[r]
+            W[g, i] = (W[g, i] - l1 * W[g, i - 1]) * d
+    d = L[hi - 1, 2]
+    for r in range(nr):
+        W[rows[r], hi - 1] *= d
+    for i in range(hi - 2, lo - 1, -1):
+        l1 = L[i + 1, 1]
+        d = L[i, 2]
+        for r in range(nr):
+            g = rows[r]
+            W[g, i] = (W[g, i] - l1 * W[g, i + 1]) * d
+
+
+@njit(cache=True)
 def _dense_solve(m, A, b):
     """Solve the small m x m system A y = b in place (partial pivoting); b becomes y.
 
@@ -576,6 +614,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     # Woodbury columns K_hat^-1 b_g for the current factor: nonzero only on the
     # DOFs gap_lo[g]..gap_hi[g]-1 of the two buildings the gap links (zero elsewhere)
     Wc = np.zeros((ngw, n))
+    batch = np.empty(ngw, np.int64)
     Wc_ok = np.zeros(ngw, np.bool_)
     Wc_lev = -2
     Sm = np.empty((ngw, ngw))
@@ -821,12 +860,15 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     for q in range(m_act):
                         g = act_list[q]
                         if not Wc_ok[g]:
-                            for i in range(gap_lo[g], gap_hi[g]):
-                                z[i] = 0.0
-                            z[gap_i[g]] = 1.0
-                            z[gap_j[g]] = -1.0
-                            _solve_range(Lf, p, z, Wc[g], gap_lo[g], gap_hi[g])
-                            Wc_ok[g] = True
+                            # every missing column on the same blocks, solved together
+                            nr = 0
+                            for q2 in range(q, m_act):
+                                g2 = act_list[q2]
+                                if not Wc_ok[g2] and gap_lo[g2] == gap_lo[g] and gap_hi[g2] == gap_hi[g]:
+                                    batch[nr] = g2
+                                    nr += 1
+                                    Wc_ok[g2] = True
+                            _woodbury_columns(Lf, p, Wc, batch, nr, gap_lo[g], gap_hi[g], gap_i, gap_j)
                     # Condensation on the gaps in contact (module docstring): the
                     # Newton iteration runs on their forces F alone.
                     scale = 0.0

@@ -63,6 +63,10 @@ from ..contact._scalar import NIVE, NONE, contact_duration, contact_force, onset
 # substep, doubling each substep) so that the impact converges with the substep.
 ONSET_GRADING = 6
 
+# Rows of up to SMALL_ROW DOFs reconstruct free-flight histories with one
+# product by the whole block-diagonal Phi^T (cheaper than a call per building).
+SMALL_ROW = 64
+
 # A located step ends on its event when |delta| <= LAND_TOL x the step's travel.
 LAND_TOL = 1e-7
 
@@ -347,13 +351,18 @@ def _first_crossing(d0, r0, d1, r1, h, closing, tol):
 
 
 @njit(cache=True)
-def _rows_from_modal(md_start, md_blocks_t, md_block_off, Q, nb, X, s_in, s_out):
-    """Physical rows X[k] = Phi Q[k], k < nb: one matrix product per block (building).
+def _rows_from_modal(md_start, md_blocks_t, md_block_off, md_phi_t, Q, nb, X, s_in, s_out):
+    """Physical rows X[k] = Phi Q[k], k < nb (X C-contiguous, nb rows).
 
-    Each block's columns are gathered into a contiguous scratch so that the
-    product is one BLAS call of (nb x n_b) by (n_b x n_b): the cost per step is
-    the sum of n_b^2, linear in the number of buildings.
+    A small row (n <= SMALL_ROW DOFs) takes one BLAS product with the whole
+    block-diagonal Phi^T.  Otherwise each block's columns are gathered into a
+    contiguous scratch for one product per block (building), so the cost per
+    step is the sum of n_b^2, linear in the number of buildings.
     """
+    n = Q.shape[1]
+    if n <= SMALL_ROW or md_start.size == 2:
+        np.dot(Q[:nb], md_phi_t, X)
+        return
     for c in range(md_start.size - 1):
         o = md_start[c]
         m = md_start[c + 1] - o
@@ -469,9 +478,9 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
     # physical rows u = Phi q (written straight into the histories when kept)
     Ub = out_u[step0 + 1:step0 + 1 + nb] if store else U[:nb]
     Vb = out_v[step0 + 1:step0 + 1 + nb] if store else V[:nb]
-    _rows_from_modal(md_start, md_blocks_t, md_block_off, Q, nb, Ub, s_in, s_out)
+    _rows_from_modal(md_start, md_blocks_t, md_block_off, md_phi_t, Q, nb, Ub, s_in, s_out)
     if ng > 0 or store:
-        _rows_from_modal(md_start, md_blocks_t, md_block_off, QV, nb, Vb, s_in, s_out)
+        _rows_from_modal(md_start, md_blocks_t, md_block_off, md_phi_t, QV, nb, Vb, s_in, s_out)
     # ---- the first step in which any gap may close ---------------------------
     n_acc = nb
     th_ev = 2.0  # the event's fraction of its step, and its gap
@@ -511,8 +520,8 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
         d0[g] = Ub[kl, gap_i[g]] - Ub[kl, gap_j[g]] - gap_size[g]
         r0[g] = Vb[kl, gap_i[g]] - Vb[kl, gap_j[g]]
     if store:
-        _rows_from_modal(md_start, md_blocks_t, md_block_off, QA, n_acc, out_a[step0 + 1:step0 + 1 + n_acc],
-                         s_in, s_out)
+        _rows_from_modal(md_start, md_blocks_t, md_block_off, md_phi_t, QA, n_acc,
+                         out_a[step0 + 1:step0 + 1 + n_acc], s_in, s_out)
         _block_energy(n_acc, Q, QV, DQ, P, f_start, md_w2, md_c, Eb)
         for k in range(n_acc):
             row = step0 + k + 1

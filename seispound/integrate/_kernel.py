@@ -641,6 +641,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     cur_imp = -np.ones(ng, np.int64)
     F = np.zeros(ng)  # contact forces in equilibrium with (u, v)
     F1 = np.zeros(ng)
+    F_old = np.zeros(ng)  # force and length of each closed gap's last accepted substep
+    h_old = np.ones(ng)
     kt = np.zeros(ng)
     d0 = np.empty(ng)  # penetration and rate of every gap at the start of the step
     r0 = np.empty(ng)
@@ -889,7 +891,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         jj = gap_j[g]
                         dl[q] = u[ii] + Du[ii] - u[jj] - Du[jj] - gap_size[g]
                         rl[q] = Vv[ii] + cc * Du[ii] - Vv[jj] - cc * Du[jj]
-                        Fm[q] = F[g]  # start from the force at the start of the step
+                        Fm[q] = F[g]  # start from the force at the start of the step,
+                        if age[g] >= 1:  # extrapolated along the last accepted substep
+                            Fm[q] += (F[g] - F_old[g]) * (h / h_old[g])
                         for r in range(m_act):
                             gr = act_list[r]
                             Gm[q, r] = Wc[gr, ii] - Wc[gr, jj]
@@ -1020,6 +1024,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     fint[ii] -= F1[gq]
                     fint[jj] += F1[gq]
                     e_cont += 0.5 * (F[gq] + F1[gq]) * (Du[ii] - Du[jj])
+                    F_old[gq] = F[gq]
+                    h_old[gq] = h
                     F[gq] = F1[gq]
                     if F[gq] > fmax[gq]:
                         fmax[gq] = F[gq]

@@ -616,7 +616,6 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     fd = np.empty(n)
     Du = np.empty(n)  # u1 - u, kept separately: recomputing it loses digits on short steps
     R0 = np.empty(n)
-    z = np.empty(n)
     Av = np.empty(n)
     Vv = np.empty(n)
     ngw = max(ng, 1)

@@ -675,6 +675,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     modal_current = False  # does (q, qv, qa) hold the current state?
     block_from = 0  # first analysis step that may start a free-flight block
     blk = 16  # current block length: short after an impact, doubling up to nblk
+    aim_gap = -1  # a gap whose event the last accepted step stopped just short of
     hint_step = -1  # the step in which a block saw an event, its fraction and gap
     th_hint = 2.0
     g_hint = -1
@@ -808,6 +809,14 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     h_nom = remaining  # absorb a sliver rather than step over it alone
             h = h_nom
             target = -1
+            if aim_gap >= 0:
+                ga = aim_gap
+                aim_gap = -1
+                if d0[ga] * r0[ga] < 0.0:  # still approaching the crossing
+                    h_aim = -d0[ga] / r0[ga]
+                    if hmin <= h_aim < h:
+                        h = h_aim
+                        target = ga
             if step == hint_step and t == step * dt and th_hint * h >= hmin:
                 h = th_hint * h  # the block's Hermite root: the physical path's first guess too
                 target = g_hint
@@ -982,6 +991,10 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         g_ev = g
                 if g_ev < 0:
                     located = True
+                    if target >= 0 and not landed:
+                        # the redo stopped just short of its event: aim the next step
+                        # at it (linear in delta) instead of finding it again
+                        aim_gap = target
                     break
                 stats[S_REJECTED] += 1
                 if theta * h < hmin:

@@ -304,6 +304,26 @@ def _hermite(s, d0, r0, d1, r1, h):
 
 
 @njit(cache=True)
+def _event_in_step(d0, r0, d1, r1, h, closing, tol):
+    """Fraction in (0, 1] of a gap's first event inside a step, or 2.0 if none.
+
+    ``closing`` (an open gap): delta rising above +tol, a touch even if it
+    reopens within the step; else (a closed gap) delta falling below -tol, a
+    separation even if it closes again within the step.  The cubic Hermite
+    interpolant of delta is bounded by max(d0, d1) + (4/27) h (max(r0, 0) +
+    max(-r1, 0)) from above and by min(d0, d1) - (4/27) h (max(-r0, 0) +
+    max(r1, 0)) from below (its basis functions h10 and -h11 lie in [0, 4/27]),
+    so only a gap whose bound reaches the threshold needs the crossing search.
+    """
+    if closing:
+        if max(d0, d1) + (4.0 / 27.0) * h * (max(r0, 0.0) + max(-r1, 0.0)) <= tol:
+            return 2.0
+    elif min(d0, d1) - (4.0 / 27.0) * h * (max(-r0, 0.0) + max(r1, 0.0)) >= -tol:
+        return 2.0
+    return _first_crossing(d0, r0, d1, r1, h, closing, tol)
+
+
+@njit(cache=True)
 def _first_crossing(d0, r0, d1, r1, h, closing, tol):
     """Fraction in (0, 1] of the first crossing of delta = 0 inside a step, or 2.0 if none.
 
@@ -496,16 +516,13 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
             d1 = Ub[k, ii] - Ub[k, jj] - gap_size[g]
             r1 = Vb[k, ii] - Vb[k, jj]
             tol = LAND_TOL * max(abs(rp), abs(r1)) * dt + 1e-15
-            # the physical path's rigorous screen (Hermite bound), then its search
-            bound = max(dp, d1) + (4.0 / 27.0) * dt * (max(rp, 0.0) + max(-r1, 0.0))
-            if bound > tol:
-                th = _first_crossing(dp, rp, d1, r1, dt, True, tol)
-                if th < 2.0:
-                    if k < n_acc or th < th_ev:
-                        n_acc = k  # later gaps need only look up to this step
-                        th_ev = th
-                        g_ev = g
-                    break
+            th = _event_in_step(dp, rp, d1, r1, dt, True, tol)  # the physical path's test
+            if th < 2.0:
+                if k < n_acc or th < th_ev:
+                    n_acc = k  # later gaps need only look up to this step
+                    th_ev = th
+                    g_ev = g
+                break
             dp = d1
             rp = r1
     event = n_acc < nb
@@ -971,21 +988,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     if gap_law[g] == NONE or (landed and g == target):
                         continue
                     tol = LAND_TOL * max(abs(r0[g]), abs(r1)) * h + 1e-15
-                    th = 2.0
-                    if not active[g]:
-                        # the Hermite cubic of delta over the step is bounded by
-                        # max(d0, d1) + (4/27) h (max(r0, 0) + max(-r1, 0)) (its basis
-                        # functions h10, -h11 <= 4/27): only a gap that may touch,
-                        # even grazing, needs the crossing search
-                        bound = max(d0[g], d1) + (4.0 / 27.0) * h * (max(r0[g], 0.0) + max(-r1, 0.0))
-                        if bound > tol:
-                            th = _first_crossing(d0[g], r0[g], d1, r1, h, True, tol)
-                    else:
-                        # the same bound from below: a contact may also open and
-                        # close again inside one step (a grazing separation)
-                        bound = min(d0[g], d1) - (4.0 / 27.0) * h * (max(-r0[g], 0.0) + max(r1, 0.0))
-                        if bound < -tol:
-                            th = _first_crossing(d0[g], r0[g], d1, r1, h, False, tol)
+                    # an open gap may touch, a closed one separate, even within the step
+                    th = _event_in_step(d0[g], r0[g], d1, r1, h, not active[g], tol)
                     if th < theta:
                         theta = th
                         g_ev = g

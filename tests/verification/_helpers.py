@@ -6,11 +6,11 @@ that the verification does not depend on the package's own reader.
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np
 
+from benchmarks.peer.cases import uniform_storey_stiffness
 from seispound.structure import Building, NoDamping, RayleighDamping
 
 G = 9.80665  # standard gravity [m/s^2] (PEER AT2 records are in g)
@@ -43,11 +43,10 @@ def el_centro(t_end, dt):
 def uniform_stiffness(mass, n, period):
     """Storey stiffness [N/m] of a uniform n-storey shear building with fundamental period ``period``.
 
-    Uniform shear building: w_1 = 2 sqrt(k/m) sin(pi / (2 (2n + 1)))
-    (the fixed-free chain; e.g. Chopra, Dynamics of Structures, Sec. 18.x / Problem 10.x).
+    The formula (omega_1 = 2 sqrt(k/m) sin(pi / (2 (2n + 1)))) lives in one place,
+    ``benchmarks.peer.cases.uniform_storey_stiffness``, shared with the benchmarks.
     """
-    w1 = 2.0 * math.pi / period
-    return mass * (w1 / (2.0 * math.sin(math.pi / (2.0 * (2 * n + 1))))) ** 2
+    return uniform_storey_stiffness(mass, n, period)
 
 
 def shear_building(name, n, period, mass=1e5, ratio=0.05, modes=(1, 2), height=3.0, v0=0.0):

@@ -567,6 +567,46 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
 
 
 @njit(cache=True)
+def _newton(m_act, act_list, Gm, dl, rl, Fm, cc, gap_law, gap_par, zeta, scale, rtol, max_iter,
+            resv, kt, Sm, ym):
+    """Newton-Raphson on the forces Fm of the m_act gaps in contact (module docstring).
+
+    The penetration and rate of gap q are dl[q] - (G F)_q and rl[q] - cc (G F)_q
+    (G = B^T K_hat^-1 B, shape (m, m)); the residual F - F_law is tested
+    against rtol times the largest of ``scale`` and the forces.  Returns
+    (converged, iterations beyond the first evaluation).
+    """
+    it = 0
+    while True:
+        rn = 0.0
+        sc = scale
+        for q in range(m_act):
+            g = act_list[q]
+            s1 = 0.0
+            for r in range(m_act):
+                s1 += Gm[q, r] * Fm[r]
+            Fg, dFd, dFv = contact_force(gap_law[g], gap_par[g], dl[q] - s1, rl[q] - cc * s1, zeta[g])
+            resv[q] = Fm[q] - Fg
+            kt[q] = dFd + cc * dFv
+            rn = max(rn, abs(resv[q]))
+            sc = max(sc, abs(Fg))
+        if rn <= rtol * sc:
+            return True, it
+        if it >= max_iter:
+            return False, it
+        it += 1
+        # Newton: (I + diag(kt) G) dF = -res
+        for q in range(m_act):
+            for r in range(m_act):
+                Sm[q, r] = kt[q] * Gm[q, r]
+            Sm[q, q] += 1.0
+            ym[q] = -resv[q]
+        _dense_solve(m_act, Sm, ym)
+        for q in range(m_act):
+            Fm[q] += ym[q]
+
+
+@njit(cache=True)
 def _begin_impact(g, t, dg, rg, code, par, n_sub, active, zeta, hsub, age, cur_imp,
                   n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_fmax, imp_dur, imp_vout):
     """Open impact number ``n_imp`` at gap g: fix its damping from the approach
@@ -922,37 +962,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         for r in range(m_act):
                             gr = act_list[r]
                             Gm[q, r] = Wc[gr, ii] - Wc[gr, jj]
-                    it = 0
-                    while True:
-                        rn = 0.0
-                        sc = scale
-                        for q in range(m_act):
-                            g = act_list[q]
-                            s1 = 0.0
-                            for r in range(m_act):
-                                s1 += Gm[q, r] * Fm[r]
-                            Fg, dFd, dFv = contact_force(gap_law[g], gap_par[g], dl[q] - s1,
-                                                         rl[q] - cc * s1, zeta[g])
-                            resv[q] = Fm[q] - Fg
-                            kt[q] = dFd + cc * dFv
-                            rn = max(rn, abs(resv[q]))
-                            sc = max(sc, abs(Fg))
-                        if rn <= rtol * sc:
-                            converged = True
-                            break
-                        if it >= max_iter:
-                            break
-                        it += 1
-                        stats[S_ITERATIONS] += 1
-                        # Newton: (I + diag(kt) G) dF = -res
-                        for q in range(m_act):
-                            for r in range(m_act):
-                                Sm[q, r] = kt[q] * Gm[q, r]
-                            Sm[q, q] += 1.0
-                            ym[q] = -resv[q]
-                        _dense_solve(m_act, Sm, ym)
-                        for q in range(m_act):
-                            Fm[q] += ym[q]
+                    converged, it = _newton(m_act, act_list, Gm, dl, rl, Fm, cc, gap_law, gap_par, zeta, scale,
+                                            rtol, max_iter, resv, kt, Sm, ym)
+                    stats[S_ITERATIONS] += it
                     for q in range(m_act):
                         g = act_list[q]
                         F1[g] = Fm[q]

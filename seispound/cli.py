@@ -1,4 +1,4 @@
-"""Command line: ``seispound run MODEL.toml -o RESULT.h5`` and ``seispound laws``.
+"""Command line: ``seispound run``, ``study``, ``query``, ``plot`` and ``laws``.
 
 Bad input prints one line ``seispound: error: FILE: KEY: message`` and exits
 with code 2, without a traceback and without writing anything.
@@ -28,6 +28,21 @@ def _parser() -> argparse.ArgumentParser:
                      help="skip the no-pounding twin run (amplification is then NaN)")
     run.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     sub.add_parser("laws", help="list the contact laws, their parameters and units")
+    st = sub.add_parser("study", help="run a parametric study (records x parameter axes) into one HDF5 store",
+                        description="Run every run of STUDY.toml not yet in the store; rerun the same "
+                                    "command to resume after an interruption.")
+    st.add_argument("study", help="TOML study file (base model, records, axes)")
+    st.add_argument("-o", "--output", help="the store (.h5); default: STUDY with suffix .h5")
+    st.add_argument("--scheduler", default="local",
+                    help='"local" (a dask LocalCluster on this machine, default), "serial" (this process, '
+                         'no dask) or the address tcp://HOST:PORT of a running dask.distributed scheduler')
+    st.add_argument("--workers", type=int, help="worker processes of the local cluster (default: all cores)")
+    st.add_argument("--chunk", type=int, help="runs per task (default: about 8 tasks per worker, at most 25)")
+    st.add_argument("--snapshot", type=float, default=30.0,
+                    help="seconds between rewrites of the store while running (0: only at the end; default 30)")
+    st.add_argument("--overwrite", action="store_true",
+                    help="replace a store (and journal) of a different study at the output path")
+    st.add_argument("-q", "--quiet", action="store_true", help="no progress bar or summary")
     return ap
 
 
@@ -43,6 +58,8 @@ def main(argv=None) -> int:
             return _run(args)
         if args.command == "laws":
             return _laws()
+        if args.command == "study":
+            return _study(args)
     except InputError as err:
         print(f"seispound: error: {err}", file=sys.stderr)
         return EXIT_INPUT
@@ -74,6 +91,37 @@ def _run(args) -> int:
     write_result(ds, out)
     if not args.quiet:
         print(summary(ds, out))
+    return 0
+
+
+def _study(args) -> int:
+    from .study import load_study, run_study
+
+    path = Path(args.study)
+    out = Path(args.output) if args.output else path.with_suffix(".h5")
+    for name in ("workers", "chunk"):
+        val = getattr(args, name)
+        if val is not None and val < 1:
+            raise InputError(f"must be an integer >= 1, got {val}", key=f"--{name}")
+    if not args.snapshot >= 0:
+        raise InputError(f"must be >= 0 seconds, got {args.snapshot}", key="--snapshot")
+    study = load_study(path)
+    if not args.quiet:
+        dims = " x ".join(f"{n} {d}" for n, d in zip(study.shape, study.run_dims))
+        print(f"{study.title}\n  {study.n_runs} runs ({dims}) -> {out}", flush=True)
+    try:
+        res = run_study(study, out, scheduler=args.scheduler, workers=args.workers, chunk=args.chunk,
+                        progress=not args.quiet, snapshot=args.snapshot, overwrite=args.overwrite)
+    except KeyboardInterrupt:
+        print(f"seispound: interrupted; finished runs are kept in {out} and its journal: "
+              "rerun the same command to resume", file=sys.stderr)
+        return 130
+    if not args.quiet:
+        if res["ran"] == 0 and res["pending"] == 0:
+            print(f"  all {study.n_runs} runs were already stored in {out}")
+        else:
+            print(f"  {res['ran']} runs in {res['seconds']:.1f} s; store: {res['done']} done, "
+                  f"{res['failed']} failed, {res['pending']} pending -> {out}")
     return 0
 
 

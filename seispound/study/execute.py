@@ -1,0 +1,257 @@
+"""Run a study: tasks on dask (a LocalCluster, an existing cluster, or in-process), results into the store.
+
+Runs that share a no-pounding twin (same record and structure; only the gaps
+or the contact law differ) form a group: the twin is one task, and the group's
+runs are split into chunks that wait for it.  Finished chunks stream into the
+journal (:mod:`.journal`) as they complete; the HDF5 store is rebuilt from the
+journal every ``snapshot`` seconds and at the end, when the journal is removed.
+Rerunning the same command after an interruption skips every stored run.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import os
+import sys
+import time
+from collections import OrderedDict
+from pathlib import Path
+
+from ..errors import InputError
+from .journal import Journal, journal_path
+from .schema import STATUS_DONE, STATUS_FAILED
+from .store import write_store
+from .worker import chunk_task, twin_task
+
+__all__ = ["run_study", "plan"]
+
+
+def plan(study, todo, n_workers: int, chunk: int | None = None) -> list:
+    """Group the runs ``todo`` by twin and split each group into chunks.
+
+    Returns [(first index of the group, [chunks of indices])].  Chunks are at
+    most ``chunk`` runs; by default small enough to give every worker about
+    eight chunks (so that the slowest does not hold the study up) and at most 25.
+    """
+    groups: OrderedDict = OrderedDict()
+    for i in todo:
+        groups.setdefault(study.twin_key(i), []).append(i)
+    if chunk is None:
+        chunk = max(1, min(25, math.ceil(len(todo) / max(1, 8 * n_workers))))
+    out = []
+    for runs in groups.values():
+        out.append((runs[0], [runs[k:k + chunk] for k in range(0, len(runs), chunk)]))
+    return out
+
+
+class Progress:
+    """done/total, runs per second and time left, on one line of stderr (rewritten on a terminal)."""
+
+    def __init__(self, total: int, already: int, enabled: bool, stream=None):
+        self.total, self.start_done, self.done, self.failed = total, already, already, 0
+        self.enabled = enabled
+        self.stream = stream or sys.stderr
+        self.tty = self.stream.isatty()
+        self.t0 = time.perf_counter()
+        self.last = 0.0
+
+    def update(self, n_done: int, n_failed: int, force: bool = False) -> None:
+        self.done += n_done
+        self.failed += n_failed
+        if not self.enabled:
+            return
+        now = time.perf_counter()
+        if not force and now - self.last < (0.2 if self.tty else 5.0):
+            return
+        self.last = now
+        rate = (self.done - self.start_done) / max(now - self.t0, 1e-9)
+        left = (self.total - self.done) / rate if rate > 0 else float("nan")
+        line = (f"study: {self.done}/{self.total} runs ({self.failed} failed) | {rate:.1f} runs/s | "
+                f"{_fmt_time(left)} left")
+        if self.tty:
+            print("\r" + line.ljust(78), end="", file=self.stream, flush=True)
+        else:
+            print(line, file=self.stream, flush=True)
+
+    def close(self) -> None:
+        if self.enabled and self.tty:
+            print(file=self.stream, flush=True)
+
+
+def _fmt_time(s: float) -> str:
+    if not math.isfinite(s):
+        return "?"
+    if s < 60:
+        return f"{s:.0f} s"
+    if s < 3600:
+        return f"{s / 60:.1f} min"
+    return f"{s / 3600:.1f} h"
+
+
+def run_study(study, out, *, scheduler: str = "local", workers: int | None = None, chunk: int | None = None,
+              progress: bool = True, snapshot: float = 30.0, overwrite: bool = False) -> dict:
+    """Run every run of ``study`` not yet in the store ``out``; write the store; return counts.
+
+    Parameters
+    ----------
+    study : Study
+    out : path
+        The store (.h5).  Its journal ``out.journal`` holds finished runs until
+        the study is complete.
+    scheduler : str
+        "local" (a dask.distributed LocalCluster of ``workers`` processes, one
+        thread each; default all cores), "tcp://HOST:PORT" (an existing
+        dask.distributed scheduler), or "serial" (in this process, no dask).
+    workers : int, optional
+        Worker processes of the LocalCluster (default: the CPU count).
+    chunk : int, optional
+        Runs per task (default: see :func:`plan`).
+    progress : bool
+        Print progress to stderr.
+    snapshot : float
+        Seconds between rewrites of the store while the study runs (0: only at the end).
+    overwrite : bool
+        Discard a store or journal of another study at ``out`` instead of refusing.
+
+    Returns
+    -------
+    dict with done, failed, pending, ran (runs computed now), seconds.
+    """
+    out = Path(out)
+    if out.suffix.lower() not in (".h5", ".hdf5", ".nc"):
+        raise InputError("the store must end in .h5, .hdf5 or .nc", file=out, key="-o")
+    if not out.parent.is_dir():
+        raise InputError(f"output folder does not exist: {out.parent}", file=out, key="-o")
+    for stale in out.parent.glob(f".{out.name}.tmp-*"):  # left by a kill during a store rewrite
+        stale.unlink(missing_ok=True)
+    h = study.hash()
+    jpath = journal_path(out)
+    if overwrite:
+        jpath.unlink(missing_ok=True)
+        out.unlink(missing_ok=True)
+    if out.exists() and not jpath.exists():
+        existing = _store_hash(out)
+        if existing != h:
+            raise InputError("holds another study (different model, records, axes or version); "
+                             "choose another output file or pass --overwrite", file=out, key="-o")
+        counts = _store_counts(out)
+        if counts["pending"] == 0:
+            return dict(counts, ran=0, seconds=0.0)
+        # an incomplete store without its journal (deleted by hand): its runs are lost, rerun them
+    journal = Journal(out, h).open()
+    try:
+        return _execute(study, out, journal, scheduler, workers, chunk, progress, snapshot)
+    finally:
+        journal.close()
+
+
+def _execute(study, out, journal, scheduler, workers, chunk, progress, snapshot) -> dict:
+    t0 = time.perf_counter()
+    todo = [i for i in range(study.n_runs) if i not in journal.done]
+    already = study.n_runs - len(todo)
+    n_failed0 = sum(1 for s in journal.done.values() if s == STATUS_FAILED)
+    prog = Progress(study.n_runs, already, progress)
+    prog.failed = n_failed0
+    state = {"last_snapshot": time.perf_counter()}
+
+    def collect(results):
+        nd = nf = 0
+        for r in results:
+            journal.append(r)
+            nd += 1
+            nf += r["status"] == STATUS_FAILED
+        prog.update(nd, nf)
+        if snapshot and time.perf_counter() - state["last_snapshot"] >= snapshot:
+            journal.sync()
+            write_store(study, journal.records, out)
+            state["last_snapshot"] = time.perf_counter()
+
+    try:
+        if todo:
+            if scheduler == "serial":
+                _run_serial(study, todo, chunk, collect)
+            else:
+                _run_dask(study, todo, scheduler, workers, chunk, collect)
+    except KeyboardInterrupt:
+        prog.close()
+        journal.sync()
+        write_store(study, journal.records, out)
+        raise
+    prog.update(0, 0, force=True)
+    prog.close()
+    journal.sync()
+    counts = write_store(study, journal.records, out)
+    if counts["pending"] == 0:
+        journal.remove()  # the store is complete: it alone is the result now
+    return dict(counts, ran=len(todo), seconds=time.perf_counter() - t0)
+
+
+def _run_serial(study, todo, chunk, collect) -> None:
+    for first, chunks in plan(study, todo, 1, chunk):
+        twin = twin_task(study, first)
+        for c in chunks:
+            collect(chunk_task(study, c, twin))
+
+
+def _run_dask(study, todo, scheduler, workers, chunk, collect) -> None:
+    try:
+        from dask.distributed import Client, LocalCluster, as_completed
+    except ImportError:
+        raise InputError("dask.distributed is needed: pip install 'seispound[dask]' "
+                         "(or use --scheduler serial)", key="--scheduler") from None
+    cluster = None
+    if scheduler == "local":
+        n = workers or os.cpu_count() or 1
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                               silence_logs=logging.ERROR)
+        client = Client(cluster)
+    elif scheduler.startswith("tcp://") or scheduler.startswith("tls://"):
+        try:
+            client = Client(scheduler, timeout=20)
+        except OSError as exc:
+            raise InputError(f"cannot reach the dask scheduler ({exc})", key="--scheduler") from None
+        n = max(1, len(client.scheduler_info().get("workers", {})))
+    else:
+        raise InputError(f'must be "local", "serial" or tcp://HOST:PORT, got {scheduler!r}', key="--scheduler")
+    try:
+        study_f = client.scatter(study, broadcast=True)
+        runs_of = {}
+        for first, chunks in plan(study, todo, n, chunk):
+            twin = client.submit(twin_task, study_f, first, pure=False)
+            for c in chunks:
+                runs_of[client.submit(chunk_task, study_f, c, twin, pure=False)] = c
+        for fut in as_completed(list(runs_of)):
+            try:
+                results = fut.result()
+            except Exception as exc:  # the task itself died (a worker lost twice ...): its runs fail
+                msg = " ".join(f"{type(exc).__name__}: {exc}".split())
+                results = [{"index": i, "status": STATUS_FAILED, "error": f"task failed: {msg}"}
+                           for i in runs_of[fut]]
+            collect(results)
+            fut.release()
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def _store_hash(path: Path) -> str | None:
+    import h5py
+
+    try:
+        with h5py.File(path, "r") as f:
+            v = f.attrs.get("study_hash")
+            return v.decode() if isinstance(v, bytes) else (None if v is None else str(v))
+    except OSError:
+        return None
+
+
+def _store_counts(path: Path) -> dict:
+    import h5py
+    import numpy as np
+
+    with h5py.File(path, "r") as f:
+        s = np.asarray(f["status"])
+    return {"done": int((s == STATUS_DONE).sum()), "failed": int((s == STATUS_FAILED).sum()),
+            "pending": int((s < 0).sum())}

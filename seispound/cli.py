@@ -43,6 +43,9 @@ def _parser() -> argparse.ArgumentParser:
     st.add_argument("--overwrite", action="store_true",
                     help="replace a store (and journal) of a different study at the output path")
     st.add_argument("-q", "--quiet", action="store_true", help="no progress bar or summary")
+    from .plot import add_plot_parser
+
+    add_plot_parser(sub)
     return ap
 
 
@@ -60,6 +63,10 @@ def main(argv=None) -> int:
             return _laws()
         if args.command == "study":
             return _study(args)
+        if args.command == "plot":
+            from .plot import cmd_plot
+
+            return cmd_plot(args)
     except InputError as err:
         print(f"seispound: error: {err}", file=sys.stderr)
         return EXIT_INPUT

@@ -1,0 +1,69 @@
+"""A small study on a copy of models/two_buildings.toml (shortened), written into tmp folders."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+SEISPOUND = Path(sys.executable).parent / "seispound"
+
+
+def model_copy(folder: Path, duration: float) -> Path:
+    """models/two_buildings.toml with its record path absolute and the duration shortened."""
+    text = (REPO / "models" / "two_buildings.toml").read_text(encoding="utf-8")
+    text, n_file = re.subn(r'(?m)^file = "([^"]+)"',
+                           lambda m: f'file = "{(REPO / "models" / m.group(1)).resolve().as_posix()}"', text)
+    text, n_dur = re.subn(r"(?m)^duration = [0-9.eE+-]+", f"duration = {duration}", text)
+    assert (n_file, n_dur) == (1, 1), "models/two_buildings.toml changed shape: adapt model_copy"
+    path = folder / "two.toml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+STUDY = """\
+title = "test study"
+model = "two.toml"
+
+[records]
+bundled = {records}
+
+[[axis]]
+name = "law"
+zip = [{{ path = "contact.law", values = ["Hd", "LVe"] }},
+       {{ path = "contact.stiffness", values = [2.75e9, 1.6e8] }}]
+
+[[axis]]
+name = "gap_size"
+path = "gap.*.size"
+values = {gaps}
+{extra}"""
+
+
+def write_study(folder: Path, duration=8.0, records=("elcentro_180", "elcentro_270"),
+                gaps=(0.005, 0.01, 0.02), extra="") -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    model_copy(folder, duration)
+    path = folder / "study.toml"
+    path.write_text(STUDY.format(records=list(records), gaps=list(gaps), extra=extra), encoding="utf-8")
+    return path
+
+
+def cli(args, cwd=None, timeout=300, **kw):
+    return subprocess.run([str(SEISPOUND), *map(str, args)], cwd=cwd, capture_output=True, text=True,
+                          timeout=timeout, **kw)
+
+
+@pytest.fixture(scope="session")
+def reference_store(tmp_path_factory):
+    """The small study run serially in one go: (study file, store)."""
+    folder = tmp_path_factory.mktemp("ref")
+    study = write_study(folder)
+    out = folder / "ref.h5"
+    res = cli(["study", study, "-o", out, "--scheduler", "serial", "-q"])
+    assert res.returncode == 0, res.stderr
+    return study, out

@@ -139,9 +139,14 @@ def run_study(study, out, *, scheduler: str = "local", workers: int | None = Non
         if counts["pending"] == 0:
             return dict(counts, ran=0, seconds=0.0)
         # an incomplete store without its journal (deleted by hand): its runs are lost, rerun them
+    created = not jpath.exists()
     journal = Journal(out, h).open()
     try:
         return _execute(study, out, journal, scheduler, workers, chunk, progress, snapshot)
+    except InputError:
+        if created and not journal.done:  # refused before any run (scheduler ...): leave nothing behind
+            journal.remove()
+        raise
     finally:
         journal.close()
 
@@ -208,7 +213,7 @@ def _run_dask(study, todo, scheduler, workers, chunk, collect) -> None:
         client = Client(cluster)
     elif scheduler.startswith("tcp://") or scheduler.startswith("tls://"):
         try:
-            client = Client(scheduler, timeout=20)
+            client = Client(scheduler, timeout=10)
         except OSError as exc:
             raise InputError(f"cannot reach the dask scheduler ({exc})", key="--scheduler") from None
         n = max(1, len(client.scheduler_info().get("workers", {})))

@@ -43,6 +43,9 @@ def _parser() -> argparse.ArgumentParser:
     st.add_argument("--overwrite", action="store_true",
                     help="replace a store (and journal) of a different study at the output path")
     st.add_argument("-q", "--quiet", action="store_true", help="no progress bar or summary")
+    from .study.query import add_query_parser
+
+    add_query_parser(sub)
     from .plot import add_plot_parser
 
     add_plot_parser(sub)
@@ -63,6 +66,10 @@ def main(argv=None) -> int:
             return _laws()
         if args.command == "study":
             return _study(args)
+        if args.command == "query":
+            from .study.query import cmd_query
+
+            return cmd_query(args)
         if args.command == "plot":
             from .plot import cmd_plot
 

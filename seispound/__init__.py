@@ -24,6 +24,7 @@ _LAZY = {
     "Model": ".model", "Analysis": ".model", "GroundMotionSpec": ".model", "load_model": ".model",
     "simulate": ".simulation", "write_result": ".results", "open_result": ".results",
     "normalised_error": ".results",
+    "load_study": ".study", "run_study": ".study", "open_study": ".study.query",
 }
 
 __all__ = ["InputError", "__version__", *_LAZY]

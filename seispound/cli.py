@@ -34,10 +34,11 @@ def _parser() -> argparse.ArgumentParser:
     st.add_argument("study", help="TOML study file (base model, records, axes)")
     st.add_argument("-o", "--output", help="the store (.h5); default: STUDY with suffix .h5")
     st.add_argument("--scheduler", default="local",
-                    help='"local" (a dask LocalCluster on this machine, default), "serial" (this process, '
-                         'no dask) or the address tcp://HOST:PORT of a running dask.distributed scheduler')
-    st.add_argument("--workers", type=int, help="worker processes of the local cluster (default: all cores)")
-    st.add_argument("--chunk", type=int, help="runs per task (default: about 8 tasks per worker, at most 25)")
+                    help='"local" (dask\'s local multiprocessing scheduler, default), "cluster" (a '
+                         'dask.distributed LocalCluster), "serial" (this process, no dask), or the address '
+                         'tcp://HOST:PORT of a running dask.distributed scheduler')
+    st.add_argument("--workers", type=int, help="worker processes for local and cluster (default: all cores)")
+    st.add_argument("--chunk", type=int, help="runs per task (default: about 16 tasks per worker, at most 10)")
     st.add_argument("--snapshot", type=float, default=30.0,
                     help="seconds between rewrites of the store while running (0: only at the end; default 30)")
     st.add_argument("--overwrite", action="store_true",

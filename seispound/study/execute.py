@@ -1,4 +1,4 @@
-"""Run a study: tasks on dask (a LocalCluster, an existing cluster, or in-process), results into the store.
+"""Run a study: tasks on dask (local processes, a LocalCluster, an existing cluster) or in-process.
 
 Runs that share a no-pounding twin (same record and structure; only the gaps
 or the contact law differ) form a group: the twin is one task, and the group's
@@ -32,13 +32,13 @@ def plan(study, todo, n_workers: int, chunk: int | None = None) -> list:
 
     Returns [(first index of the group, [chunks of indices])].  Chunks are at
     most ``chunk`` runs; by default small enough to give every worker about
-    eight chunks (so that the slowest does not hold the study up) and at most 25.
+    sixteen chunks (so that the last ones do not hold the study up) and at most 10.
     """
     groups: OrderedDict = OrderedDict()
     for i in todo:
         groups.setdefault(study.twin_key(i), []).append(i)
     if chunk is None:
-        chunk = max(1, min(25, math.ceil(len(todo) / max(1, 8 * n_workers))))
+        chunk = max(1, min(10, math.ceil(len(todo) / max(1, 16 * n_workers))))
     out = []
     for runs in groups.values():
         out.append((runs[0], [runs[k:k + chunk] for k in range(0, len(runs), chunk)]))
@@ -100,11 +100,13 @@ def run_study(study, out, *, scheduler: str = "local", workers: int | None = Non
         The store (.h5).  Its journal ``out.journal`` holds finished runs until
         the study is complete.
     scheduler : str
-        "local" (a dask.distributed LocalCluster of ``workers`` processes, one
-        thread each; default all cores), "tcp://HOST:PORT" (an existing
-        dask.distributed scheduler), or "serial" (in this process, no dask).
+        "local" (default: dask's local multiprocessing scheduler, ``workers``
+        processes forked from this one), "cluster" (a dask.distributed
+        LocalCluster of ``workers`` processes, one thread each),
+        "tcp://HOST:PORT" (an existing dask.distributed scheduler: the way to
+        more machines), or "serial" (in this process, no dask).
     workers : int, optional
-        Worker processes of the LocalCluster (default: the CPU count).
+        Worker processes for "local" and "cluster" (default: the CPU count).
     chunk : int, optional
         Runs per task (default: see :func:`plan`).
     progress : bool
@@ -176,8 +178,10 @@ def _execute(study, out, journal, scheduler, workers, chunk, progress, snapshot)
         if todo:
             if scheduler == "serial":
                 _run_serial(study, todo, chunk, collect)
+            elif scheduler == "local":
+                _run_local(study, todo, workers, chunk, collect)
             else:
-                _run_dask(study, todo, scheduler, workers, chunk, collect)
+                _run_distributed(study, todo, scheduler, workers, chunk, collect)
     except KeyboardInterrupt:
         prog.close()
         journal.sync()
@@ -199,14 +203,63 @@ def _run_serial(study, todo, chunk, collect) -> None:
             collect(chunk_task(study, c, twin))
 
 
-def _run_dask(study, todo, scheduler, workers, chunk, collect) -> None:
+def _run_local(study, todo, workers, chunk, collect) -> None:
+    """dask's local multiprocessing scheduler on a pool of forked workers.
+
+    The workers are forked from this process after it has loaded the compiled
+    kernel and read a record, so they start in milliseconds with everything
+    imported (spawned workers would each spend seconds importing and loading
+    numba's cache).  Finished chunks are collected as they complete (a posttask
+    callback), and dropped from the scheduler's cache at once so that memory
+    does not grow with the number of runs.
+    """
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    try:
+        from dask.callbacks import Callback
+        from dask.multiprocessing import get as mp_get
+    except ImportError:
+        raise InputError("dask is needed: pip install 'seispound[dask]' (or use --scheduler serial)",
+                         key="--scheduler") from None
+    n = workers or os.cpu_count() or 1
+    groups = plan(study, todo, n, chunk)
+    dsk, keys = {}, []
+    for g, (first, chunks) in enumerate(groups):
+        # the first twin here: it warms this process (kernel, record reader) before the fork
+        twin = twin_task(study, first) if g == 0 else (twin_task, study, first)
+        tkey = f"twin-{g}"
+        dsk[tkey] = twin
+        for k, c in enumerate(chunks):
+            key = f"chunk-{g}-{k}"
+            dsk[key] = (chunk_task, study, c, tkey)
+            keys.append(key)
+
+    def posttask(key, result, dsk_, state, worker_id):
+        if key.startswith("chunk-"):
+            collect(result)
+            state["cache"][key] = None  # collected: do not keep it until the end
+
+    try:
+        ctx = multiprocessing.get_context("fork")
+    except ValueError:  # pragma: no cover - no fork on this platform
+        ctx = multiprocessing.get_context("spawn")
+    pool = ProcessPoolExecutor(n, mp_context=ctx)
+    try:
+        with Callback(posttask=posttask):
+            mp_get(dsk, keys, num_workers=n, pool=pool, chunksize=1, optimize_graph=False)
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _run_distributed(study, todo, scheduler, workers, chunk, collect) -> None:
     try:
         from dask.distributed import Client, LocalCluster, as_completed
     except ImportError:
         raise InputError("dask.distributed is needed: pip install 'seispound[dask]' "
                          "(or use --scheduler serial)", key="--scheduler") from None
     cluster = None
-    if scheduler == "local":
+    if scheduler == "cluster":
         n = workers or os.cpu_count() or 1
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
                                silence_logs=logging.ERROR)
@@ -218,7 +271,8 @@ def _run_dask(study, todo, scheduler, workers, chunk, collect) -> None:
             raise InputError(f"cannot reach the dask scheduler ({exc})", key="--scheduler") from None
         n = max(1, len(client.scheduler_info().get("workers", {})))
     else:
-        raise InputError(f'must be "local", "serial" or tcp://HOST:PORT, got {scheduler!r}', key="--scheduler")
+        raise InputError(f'must be "local", "cluster", "serial" or tcp://HOST:PORT, got {scheduler!r}',
+                         key="--scheduler")
     try:
         study_f = client.scatter(study, broadcast=True)
         runs_of = {}

@@ -1,4 +1,5 @@
-"""dask: a LocalCluster started by the CLI, and an existing cluster reached over loopback, give the serial store."""
+"""dask: the local scheduler, a LocalCluster started by the CLI, and an existing LocalCluster of two workers
+reached over loopback all give the store of the serial run."""
 
 from __future__ import annotations
 
@@ -25,10 +26,11 @@ CLUSTER = textwrap.dedent("""
 """)
 
 
-def test_local_cluster_of_two_workers_gives_the_serial_store(reference_store, tmp_path):
+@pytest.mark.parametrize("scheduler", ["local", "cluster"])
+def test_local_scheduler_and_local_cluster_give_the_serial_store(reference_store, tmp_path, scheduler):
     study_file, ref = reference_store
-    out = tmp_path / "local.h5"
-    res = cli(["study", study_file, "-o", out, "--scheduler", "local", "--workers", "2", "--chunk", "2"])
+    out = tmp_path / f"{scheduler}.h5"
+    res = cli(["study", study_file, "-o", out, "--scheduler", scheduler, "--workers", "2", "--chunk", "2"])
     assert res.returncode == 0, res.stderr
     assert "12 runs in" in res.stdout
     a = xr.open_dataset(ref, engine="h5netcdf").load()
@@ -36,8 +38,10 @@ def test_local_cluster_of_two_workers_gives_the_serial_store(reference_store, tm
     assert a.identical(b)
 
 
-def test_existing_cluster_on_loopback_gives_the_serial_store(reference_store, tmp_path):
+def test_existing_cluster_on_loopback_gives_the_local_scheduler_store(reference_store, tmp_path):
     study_file, ref = reference_store
+    local = tmp_path / "local.h5"
+    assert cli(["study", study_file, "-o", local, "--workers", "2", "-q"]).returncode == 0  # the default: local
     script = tmp_path / "cluster.py"
     script.write_text(CLUSTER)
     proc = subprocess.Popen([sys.executable, str(script)], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
@@ -48,7 +52,8 @@ def test_existing_cluster_on_loopback_gives_the_serial_store(reference_store, tm
         out = tmp_path / "remote.h5"
         res = cli(["study", study_file, "-o", out, "--scheduler", address])
         assert res.returncode == 0, res.stderr
-        a = xr.open_dataset(ref, engine="h5netcdf").load()
+        a = xr.open_dataset(local, engine="h5netcdf").load()
+        assert a.identical(xr.open_dataset(ref, engine="h5netcdf").load())
         b = xr.open_dataset(out, engine="h5netcdf").load()
         assert a.identical(b)
     finally:

@@ -139,11 +139,23 @@ def _attributes(study, counts) -> dict:
         schema=SCHEMA, schema_version=SCHEMA_VERSION, title=study.title, seispound_version=__version__,
         study_file=str(study.path), study_text=study.text, model_file=str(study.model_path),
         model_text=study.model_text,
-        records=json.dumps([{"name": r.name, "file": str(r.file), "sha256": r.sha256} for r in study.records]),
+        records=json.dumps([{"name": r.name, "file": str(r.file), "sha256": r.sha256,
+                             "provenance": _provenance(study, k)} for k, r in enumerate(study.records)]),
         axes=json.dumps([a.describe() for a in study.axes]), run_dims=json.dumps(list(study.run_dims)),
         study_hash=study.hash(), runs_total=study.n_runs, runs_done=counts["done"],
         runs_failed=counts["failed"],
     )
+
+
+def _provenance(study, k: int) -> dict:
+    """What the reader says of record k (station, component, units, processing ...), or its error."""
+    from ..simulation import prepare_ground_motion
+
+    try:  # the first run of the record: prepared records are cached, so this reads each file once
+        _, prov = prepare_ground_motion(study.model_for(k * (study.n_runs // len(study.records))))
+        return prov or {}
+    except Exception as exc:  # a record that cannot be read: its runs are failed already
+        return {"error": " ".join(str(exc).split())}
 
 
 def _write_histories(study, results, path, shape, dims, trailing) -> None:

@@ -148,3 +148,43 @@ def test_rerun_of_a_complete_study_runs_nothing(reference_store, tmp_path):
     res = cli(["study", study_file, "-o", out, "--scheduler", "serial"])
     assert res.returncode == 0, res.stderr
     assert "all 12 runs were already stored" in res.stdout
+
+
+def test_query_answers_equal_values_from_single_runs(reference_store):
+    """`seispound query` on the study store against the same numbers from individual simulate() runs."""
+    study_file, out = reference_store
+    folder = study_file.parent
+    laws = {"Hd": 2.75e9, "LVe": 1.6e8}
+    gaps = [0.005, 0.01, 0.02]
+    singles = {(rec, law, gap): single_run(folder, rec, law, k, gap)
+               for rec in ("elcentro_180", "elcentro_270") for law, k in laws.items() for gap in gaps}
+    # worst amplification over floors and records, per law and gap (JSON)
+    res = cli(["query", out, "--reduce", "record=max", "--format", "json"])
+    assert res.returncode == 0, res.stderr
+    rows = {(r["law"], r["gap_size"]): r["max_amplification"] for r in json.loads(res.stdout)["records"]}
+    assert len(rows) == 6
+    for law in laws:
+        for gap in gaps:
+            want = max(float(singles[(rec, law, gap)].amplification.max()) for rec in ("elcentro_180", "elcentro_270"))
+            assert rows[(law, gap)] == pytest.approx(want, rel=1e-12)
+    # mean over records of the largest pounding force, Hd (CSV)
+    res = cli(["query", out, "--var", "max_pounding_force", "--sel", "law=Hd", "--reduce", "record=mean",
+               "--format", "csv"])
+    assert res.returncode == 0, res.stderr
+    lines = res.stdout.strip().splitlines()
+    assert lines[0] == "gap_size [m],max_pounding_force [N]"
+    got = {float(a): float(b) for a, b in (ln.split(",") for ln in lines[1:])}
+    for gap in gaps:
+        want = np.mean([float(singles[(rec, "Hd", gap)].peak_pounding_force.max())
+                        for rec in ("elcentro_180", "elcentro_270")])
+        assert got[gap] == pytest.approx(want, rel=1e-12)
+    # the smallest gap per law whose largest amplification over records is below a threshold
+    thr = 1.0 + 0.5 * (rows[("Hd", 0.01)] - 1.0)  # between the values, so that the answer is not trivial
+    res = cli(["query", out, "--reduce", "record=max", "--where", f"<{thr!r}", "--smallest", "gap_size",
+               "--format", "json"])
+    assert res.returncode == 0, res.stderr
+    got = {r["law"]: r["smallest_gap_size"] for r in json.loads(res.stdout)["records"]}
+    for law in laws:
+        passing = [g for g in gaps if max(float(singles[(rec, law, g)].amplification.max())
+                                          for rec in ("elcentro_180", "elcentro_270")) < thr]
+        assert got[law] == (min(passing) if passing else None)

@@ -237,6 +237,11 @@ def _parse(data: dict, path: Path, text: str) -> Study:
     records = _records(data.get("records"), path.parent)
     axes = _axes(data.get("axis"), model_data)
     histories, decimate = _output(data.get("output"))
+    if histories:
+        timed = [m.path for a in axes for m in a.members if m.path.startswith("analysis.")]
+        if timed:
+            raise InputError(f"histories need one time axis for every run, but {timed[0]} varies it; "
+                             "keep histories or that axis", key="output.histories")
     study = Study(path=path, text=text, title=title, model_path=model_path, model_text=model_text,
                   model_data=model_data, records=records, axes=axes, histories=histories, decimate=decimate)
     _validate_values(study, base)

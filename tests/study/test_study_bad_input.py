@@ -61,6 +61,9 @@ CASES = [
      "changes the buildings"),
     ("unknown history", GOOD + '[output]\nhistories = ["temperature"]\n', "output.histories", "temperature"),
     ("bad decimate", GOOD + "[output]\ndecimate = 0\n", "output.decimate", ">= 1"),
+    ("histories with a varying dt", GOOD.replace('path = "gap.*.size"\nvalues = [0.01, 0.02]',
+                                                 'path = "analysis.dt"\nvalues = [0.005, 0.01]')
+     + '[output]\nhistories = ["displacement"]\n', "output.histories", "analysis.dt"),
 ]
 
 

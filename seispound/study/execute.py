@@ -235,7 +235,11 @@ def _run_local(study, todo, workers, chunk, collect) -> None:
             dsk[key] = (chunk_task, study, c, tkey)
             keys.append(key)
 
+    prefetch = []
+
     def posttask(key, result, dsk_, state, worker_id):
+        if not prefetch:  # the workers are forked by now: a thread is safe
+            prefetch.append(_prefetch_store(study))
         if key.startswith("chunk-"):
             collect(result)
             state["cache"][key] = None  # collected: do not keep it until the end
@@ -250,6 +254,29 @@ def _run_local(study, todo, workers, chunk, collect) -> None:
             mp_get(dsk, keys, num_workers=n, pool=pool, chunksize=1, optimize_graph=False)
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
+        for t in prefetch:
+            t.join()
+
+
+def _prefetch_store(study):
+    """Import the store writer's libraries and read the records' provenance in a thread.
+
+    This process would otherwise wait idle on its workers and then spend a
+    second or more on these at the end, alone; a thread does it meanwhile.
+    """
+    import threading
+
+    def work():
+        try:
+            from .store import prefetch
+
+            prefetch(study)
+        except Exception:  # only a head start: write_store does (and reports) it all again
+            pass
+
+    t = threading.Thread(target=work, name="seispound-store-prefetch", daemon=True)
+    t.start()
+    return t
 
 
 def _run_distributed(study, todo, scheduler, workers, chunk, collect) -> None:
@@ -273,6 +300,7 @@ def _run_distributed(study, todo, scheduler, workers, chunk, collect) -> None:
     else:
         raise InputError(f'must be "local", "cluster", "serial" or tcp://HOST:PORT, got {scheduler!r}',
                          key="--scheduler")
+    prefetch = _prefetch_store(study)  # no fork here: start at once
     try:
         study_f = client.scatter(study, broadcast=True)
         runs_of = {}
@@ -293,6 +321,7 @@ def _run_distributed(study, todo, scheduler, workers, chunk, collect) -> None:
         client.close()
         if cluster is not None:
             cluster.close()
+        prefetch.join()
 
 
 def _store_hash(path: Path) -> str | None:

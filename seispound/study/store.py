@@ -147,6 +147,15 @@ def _attributes(study, counts) -> dict:
     )
 
 
+def prefetch(study) -> None:
+    """Load what :func:`write_store` needs (netCDF writer, record provenance) ahead of time."""
+    import h5netcdf  # noqa: F401
+    import xarray.backends.h5netcdf_  # noqa: F401  (the engine's module: most of the import time)
+
+    for k in range(len(study.records)):
+        _provenance(study, k)
+
+
 def _provenance(study, k: int) -> dict:
     """What the reader says of record k (station, component, units, processing ...), or its error."""
     from ..simulation import prepare_ground_motion

@@ -29,9 +29,9 @@ def stored_runs(out, h) -> int:
     return sum(1 for _ in Journal(out, h).records())
 
 
-def start(study_file, out):
-    return subprocess.Popen([str(SEISPOUND), "study", str(study_file), "-o", str(out), "--scheduler", "serial",
-                             "--chunk", "1", "--snapshot", "0.1"],
+def start(study_file, out, scheduler="serial"):
+    return subprocess.Popen([str(SEISPOUND), "study", str(study_file), "-o", str(out), "--scheduler", scheduler,
+                             "--workers", "2", "--chunk", "1", "--snapshot", "0.1"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
 
 
@@ -56,12 +56,12 @@ def study_and_reference(tmp_path_factory):
     return study_file, xr.open_dataset(ref, engine="h5netcdf").load()
 
 
-@pytest.mark.parametrize("after", [3, 11])
-def test_sigkill_then_resume_equals_uninterrupted(study_and_reference, tmp_path, after):
+@pytest.mark.parametrize("after, scheduler", [(3, "serial"), (11, "serial"), (5, "local")])
+def test_sigkill_then_resume_equals_uninterrupted(study_and_reference, tmp_path, after, scheduler):
     study_file, reference = study_and_reference
     h = load_study(study_file).hash()
     out = tmp_path / "killed.h5"
-    proc = start(study_file, out)
+    proc = start(study_file, out, scheduler)  # local: the forked workers die with it
     wait_for_runs(proc, out, h, after)
     os.killpg(proc.pid, signal.SIGKILL)  # the whole process group, no chance to clean up
     proc.wait(timeout=30)
@@ -71,7 +71,7 @@ def test_sigkill_then_resume_equals_uninterrupted(study_and_reference, tmp_path,
     if out.exists():  # a snapshot, if one was taken, is a whole file with runs still pending
         snap = xr.open_dataset(out, engine="h5netcdf").load()
         assert int((snap.status == -1).sum()) > 0
-    res = cli(["study", study_file, "-o", out, "--scheduler", "serial"])
+    res = cli(["study", study_file, "-o", out, "--scheduler", scheduler, "--workers", "2"])
     assert res.returncode == 0, res.stderr
     ran = int(re.search(r"(\d+) runs in", res.stdout).group(1))
     assert ran == 32 - n_before  # what was stored is not computed again

@@ -16,7 +16,7 @@ from ..integrate import Newmark
 from ..structure import Building, Gap, NoDamping, RayleighDamping, assemble
 from .spec import Analysis, GroundMotionSpec, Model
 
-__all__ = ["load_model", "parse_model"]
+__all__ = ["load_model", "parse_model", "read_toml"]
 
 _TOP = {"title", "description", "analysis", "ground_motion", "contact", "building", "gap"}
 _ANALYSIS = {"dt", "duration", "newmark", "contact_substeps", "rtol", "max_iter"}
@@ -47,20 +47,25 @@ def load_model(path) -> Model:
         syntax, unknown key, wrong type or value, inconsistent lengths ...).
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError("model file not found", file=path) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read model file ({exc.__class__.__name__}: {exc})", file=path) from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"malformed TOML: {exc}", file=path, key="(syntax)") from None
+    text, data = read_toml(path, "model")
     try:
         return parse_model(data, base=path.parent, source=str(path), text=text)
     except InputError as err:
         raise err.located(file=path) from None
+
+
+def read_toml(path: Path, what: str) -> tuple[str, dict]:
+    """The text and parsed table of a TOML file; InputError naming the file for a missing or bad one."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(f"{what} file not found", file=path) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot read {what} file ({exc.__class__.__name__}: {exc})", file=path) from None
+    try:
+        return text, tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"malformed TOML: {exc}", file=path, key="(syntax)") from None
 
 
 def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:

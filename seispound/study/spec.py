@@ -45,7 +45,6 @@ from __future__ import annotations
 import copy
 import glob as _glob
 import hashlib
-import itertools
 import json
 import math
 import sys
@@ -200,17 +199,10 @@ def load_study(path) -> Study:
 
     Raises InputError ``STUDY: KEY: message`` for any problem, before any run.
     """
+    from ..model.toml_loader import read_toml
+
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError("study file not found", file=path) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read study file ({exc.__class__.__name__}: {exc})", file=path) from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"malformed TOML: {exc}", file=path, key="(syntax)") from None
+    text, data = read_toml(path, "study")
     try:
         return _parse(data, path, text)
     except InputError as err:
@@ -487,6 +479,3 @@ def _check_keys(table: dict, allowed: set, where: str) -> None:
             full = f"{where}.{k}" if where else k
             raise InputError(f"unknown key; allowed here: {', '.join(sorted(allowed))}", key=full)
 
-
-def _product(shape):
-    return itertools.product(*(range(s) for s in shape))

@@ -38,10 +38,10 @@ Free flight: while every gap is open, the buildings are linear and uncoupled.
 When they are also classically damped (``modal.py``), the kernel marches whole
 blocks of analysis steps in modal coordinates (``_free_flight``: the same
 Newmark recurrence per mode, no solve, Phi q for the physical rows, one matrix
-product per block), screens every gap at every step of the block with the
-same test as above, accepts the steps before the first one in which a gap may
-close, and hands that step to the physical path, starting from the block's
-own root estimate.  Blocks start at 16 steps after an impact and double up to
+product per chunk of FREE_FLIGHT_CHUNK steps), screens every gap at every step
+with the same test as above, chunk by chunk, accepts the steps before the
+first one in which a gap may close, and hands that step to the physical path,
+starting from the block's own root estimate.  Blocks start at 16 steps after an impact and double up to
 ``nblk``; the no-pounding twin runs in free flight throughout.
 
 Energy (relative frame; Uang & Bertero 1990) is accumulated with the
@@ -62,6 +62,9 @@ from ..contact._scalar import NIVE, NONE, contact_duration, contact_force, onset
 # contact; its first substeps are graded (1/2^ONSET_GRADING of the regular
 # substep, doubling each substep) so that the impact converges with the substep.
 ONSET_GRADING = 6
+
+# Free-flight blocks are marched, rebuilt and screened FREE_FLIGHT_CHUNK steps at a time.
+FREE_FLIGHT_CHUNK = 32
 
 # Rows of up to SMALL_ROW DOFs reconstruct free-flight histories with one
 # product by the whole block-diagonal Phi^T (cheaper than a call per building).
@@ -482,49 +485,61 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
                 P[k, j] -= md_gam[r, j] * g
     for j in range(n):
         f_start[j] = md_w2[j] * mq[j] + md_c[j] * mqv[j]
-    # ---- speculative march of the modal equations (no contact) ----------------
-    for k in range(nb):
-        for j in range(n):  # every mode at once: vectorised over j
-            av = -c1 * mqv[j] - c2 * mqa[j]
-            vv = c3 * mqv[j] + c4 * mqa[j]
-            dq = (P[k + 1, j] - av - md_c[j] * vv - md_w2[j] * mq[j]) * md_khinv[j]
-            mq[j] += dq
-            mqv[j] = vv + cc * dq
-            mqa[j] = av + cm * dq
-            Q[k, j] = mq[j]
-            QV[k, j] = mqv[j]
-            QA[k, j] = mqa[j]
-            DQ[k, j] = dq
-    # physical rows u = Phi q (written straight into the histories when kept)
-    Ub = out_u[step0 + 1:step0 + 1 + nb] if store else U[:nb]
+    # ---- march, rebuild and screen chunk by chunk, up to the first event ------
+    # (chunks keep the BLAS products large, and an event early in a long block
+    # wastes at most one chunk of speculative steps; the twin, with no gap to
+    # screen, takes the block in one chunk)
+    chunk = nb if ng == 0 else FREE_FLIGHT_CHUNK
+    Ub = out_u[step0 + 1:step0 + 1 + nb] if store else U[:nb]  # u = Phi q, straight into the histories
     Vb = out_v[step0 + 1:step0 + 1 + nb] if store else V[:nb]
-    _rows_from_modal(md_start, md_blocks_t, md_block_off, md_phi_t, Q, nb, Ub, s_in, s_out)
-    if ng > 0 or store:
-        _rows_from_modal(md_start, md_blocks_t, md_block_off, md_phi_t, QV, nb, Vb, s_in, s_out)
-    # ---- the first step in which any gap may close ---------------------------
     n_acc = nb
     th_ev = 2.0  # the event's fraction of its step, and its gap
     g_ev = -1
-    for g in range(ng):
-        if gap_law[g] == NONE:
-            continue
-        ii = gap_i[g]
-        jj = gap_j[g]
-        dp = d0[g]
-        rp = r0[g]
-        for k in range(min(n_acc + 1, nb)):
-            d1 = Ub[k, ii] - Ub[k, jj] - gap_size[g]
-            r1 = Vb[k, ii] - Vb[k, jj]
-            tol = LAND_TOL * max(abs(rp), abs(r1)) * dt + 1e-15
-            th = _event_in_step(dp, rp, d1, r1, dt, True, tol)  # the physical path's test
-            if th < 2.0:
-                if k < n_acc or th < th_ev:
-                    n_acc = k  # later gaps need only look up to this step
-                    th_ev = th
-                    g_ev = g
-                break
-            dp = d1
-            rp = r1
+    k0 = 0
+    while k0 < nb and n_acc == nb:
+        k1 = min(k0 + chunk, nb)
+        for k in range(k0, k1):
+            for j in range(n):  # every mode at once: vectorised over j
+                av = -c1 * mqv[j] - c2 * mqa[j]
+                vv = c3 * mqv[j] + c4 * mqa[j]
+                dq = (P[k + 1, j] - av - md_c[j] * vv - md_w2[j] * mq[j]) * md_khinv[j]
+                mq[j] += dq
+                mqv[j] = vv + cc * dq
+                mqa[j] = av + cm * dq
+                Q[k, j] = mq[j]
+                QV[k, j] = mqv[j]
+                QA[k, j] = mqa[j]
+                DQ[k, j] = dq
+        _rows_from_modal(md_start, md_blocks_t, md_block_off, md_phi_t, Q[k0:k1], k1 - k0, Ub[k0:k1], s_in, s_out)
+        if ng > 0 or store:
+            _rows_from_modal(md_start, md_blocks_t, md_block_off, md_phi_t, QV[k0:k1], k1 - k0, Vb[k0:k1],
+                             s_in, s_out)
+        # the first step in which any gap may close
+        for g in range(ng):
+            if gap_law[g] == NONE:
+                continue
+            ii = gap_i[g]
+            jj = gap_j[g]
+            if k0 == 0:
+                dp = d0[g]
+                rp = r0[g]
+            else:
+                dp = Ub[k0 - 1, ii] - Ub[k0 - 1, jj] - gap_size[g]
+                rp = Vb[k0 - 1, ii] - Vb[k0 - 1, jj]
+            for k in range(k0, min(n_acc + 1, k1)):
+                d1 = Ub[k, ii] - Ub[k, jj] - gap_size[g]
+                r1 = Vb[k, ii] - Vb[k, jj]
+                tol = LAND_TOL * max(abs(rp), abs(r1)) * dt + 1e-15
+                th = _event_in_step(dp, rp, d1, r1, dt, True, tol)  # the physical path's test
+                if th < 2.0:
+                    if k < n_acc or th < th_ev:
+                        n_acc = k  # later gaps need only look up to this step
+                        th_ev = th
+                        g_ev = g
+                    break
+                dp = d1
+                rp = r1
+        k0 = k1
     event = n_acc < nb
     if n_acc == 0:
         return 0, event, th_ev, g_ev, e_in, w_int

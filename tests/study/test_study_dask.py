@@ -10,9 +10,7 @@ import textwrap
 import pytest
 import xarray as xr
 
-pytest.importorskip("dask.distributed", reason="the test extra installs dask[distributed]")
-
-from .conftest import cli  # noqa: E402
+from .conftest import cli
 
 CLUSTER = textwrap.dedent("""
     import sys

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import seispound
+from tests._models import short_copy as _short_copy
 
 REPO = Path(__file__).resolve().parents[2]
 BIN = Path(sys.executable).parent
@@ -20,15 +21,7 @@ DURATION = 3.0
 
 
 def short_copy(folder: Path, name="two_buildings.toml", duration=DURATION) -> Path:
-    """models/<name> with duration shortened and the record path made absolute."""
-    text = (REPO / "models" / name).read_text(encoding="utf-8")
-    text, n_file = re.subn(r'(?m)^file = "([^"]+)"',
-                           lambda m: f'file = "{(REPO / "models" / m.group(1)).resolve().as_posix()}"', text)
-    text, n_dur = re.subn(r"(?m)^duration = [0-9.eE+-]+", f"duration = {duration}", text)
-    assert (n_file, n_dur) == (1, 1), "models/two_buildings.toml changed shape: adapt short_copy"
-    path = folder / name
-    path.write_text(text, encoding="utf-8")
-    return path
+    return _short_copy(folder, duration, name)
 
 
 def run(args, cwd):

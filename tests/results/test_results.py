@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import re
 import sys
 from pathlib import Path
 
@@ -18,6 +17,7 @@ import pytest
 import xarray as xr
 
 import seispound
+from tests._models import short_copy as _short_copy
 from seispound import InputError, load_model, open_result, simulate, write_result
 
 REPO = Path(__file__).resolve().parents[2]
@@ -27,14 +27,7 @@ RECORD_FILE = "RSN6_IMPVALL.I_I-ELC180-hor1.AT2"
 
 
 def short_copy(folder: Path, duration=DURATION) -> Path:
-    text = (REPO / "models" / "two_buildings.toml").read_text(encoding="utf-8")
-    text, n_file = re.subn(r'(?m)^file = "([^"]+)"',
-                           lambda m: f'file = "{(REPO / "models" / m.group(1)).resolve().as_posix()}"', text)
-    text, n_dur = re.subn(r"(?m)^duration = [0-9.eE+-]+", f"duration = {duration}", text)
-    assert (n_file, n_dur) == (1, 1), "models/two_buildings.toml changed shape: adapt short_copy"
-    path = folder / "two_buildings.toml"
-    path.write_text(text, encoding="utf-8")
-    return path
+    return _short_copy(folder, duration)
 
 
 @pytest.fixture(scope="module")

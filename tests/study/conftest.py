@@ -2,27 +2,21 @@
 
 from __future__ import annotations
 
-import re
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
 
+from tests._models import short_copy
+
 REPO = Path(__file__).resolve().parents[2]
 SEISPOUND = Path(sys.executable).parent / "seispound"
 
 
 def model_copy(folder: Path, duration: float) -> Path:
-    """models/two_buildings.toml with its record path absolute and the duration shortened."""
-    text = (REPO / "models" / "two_buildings.toml").read_text(encoding="utf-8")
-    text, n_file = re.subn(r'(?m)^file = "([^"]+)"',
-                           lambda m: f'file = "{(REPO / "models" / m.group(1)).resolve().as_posix()}"', text)
-    text, n_dur = re.subn(r"(?m)^duration = [0-9.eE+-]+", f"duration = {duration}", text)
-    assert (n_file, n_dur) == (1, 1), "models/two_buildings.toml changed shape: adapt model_copy"
-    path = folder / "two.toml"
-    path.write_text(text, encoding="utf-8")
-    return path
+    """models/two_buildings.toml as folder/two.toml, record path absolute, duration shortened."""
+    return short_copy(folder, duration, as_name="two.toml")
 
 
 STUDY = """\

@@ -1,0 +1,20 @@
+"""Shortened copies of the bundled model files for tests that run them."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def short_copy(folder: Path, duration: float, name: str = "two_buildings.toml", as_name: str | None = None) -> Path:
+    """models/<name> written to folder/<as_name or name>, its record path absolute and its duration shortened."""
+    text = (REPO / "models" / name).read_text(encoding="utf-8")
+    text, n_file = re.subn(r'(?m)^file = "([^"]+)"',
+                           lambda m: f'file = "{(REPO / "models" / m.group(1)).resolve().as_posix()}"', text)
+    text, n_dur = re.subn(r"(?m)^duration = [0-9.eE+-]+", f"duration = {duration}", text)
+    assert (n_file, n_dur) == (1, 1), f"models/{name} changed shape: adapt tests/_models.short_copy"
+    path = folder / (as_name or name)
+    path.write_text(text, encoding="utf-8")
+    return path

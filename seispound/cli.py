@@ -33,10 +33,11 @@ def _parser() -> argparse.ArgumentParser:
                                     "command to resume after an interruption.")
     st.add_argument("study", help="TOML study file (base model, records, axes)")
     st.add_argument("-o", "--output", help="the store (.h5); default: STUDY with suffix .h5")
-    st.add_argument("--scheduler", default="local",
-                    help='"local" (dask\'s local multiprocessing scheduler, default), "cluster" (a '
-                         'dask.distributed LocalCluster), "serial" (this process, no dask), or the address '
-                         'tcp://HOST:PORT of a running dask.distributed scheduler')
+    st.add_argument("--scheduler",
+                    help='"local" (dask\'s local multiprocessing scheduler; the default when dask is '
+                         'installed, else "serial"), "cluster" (a dask.distributed LocalCluster), "serial" '
+                         '(this process, no dask), or the address tcp://HOST:PORT of a running '
+                         'dask.distributed scheduler')
     st.add_argument("--workers", type=int, help="worker processes for local and cluster (default: all cores)")
     st.add_argument("--chunk", type=int, help="runs per task (default: about 16 tasks per worker, at most 10)")
     st.add_argument("--snapshot", type=float, default=30.0,
@@ -121,11 +122,19 @@ def _study(args) -> int:
     if not args.snapshot >= 0:
         raise InputError(f"must be >= 0 seconds, got {args.snapshot}", key="--snapshot")
     study = load_study(path)
+    scheduler = args.scheduler
+    if scheduler is None:  # all cores with dask (the `dask` extra); one without it
+        import importlib.util
+
+        scheduler = "local" if importlib.util.find_spec("dask") else "serial"
+        if scheduler == "serial" and not args.quiet:
+            print("seispound: dask is not installed, so the runs go one at a time in this process; "
+                  "pip install 'seispound[dask]' to use every core", file=sys.stderr)
     if not args.quiet:
         dims = " x ".join(f"{n} {d}" for n, d in zip(study.shape, study.run_dims))
         print(f"{study.title}\n  {study.n_runs} runs ({dims}) -> {out}", flush=True)
     try:
-        res = run_study(study, out, scheduler=args.scheduler, workers=args.workers, chunk=args.chunk,
+        res = run_study(study, out, scheduler=scheduler, workers=args.workers, chunk=args.chunk,
                         progress=not args.quiet, snapshot=args.snapshot, overwrite=args.overwrite)
     except KeyboardInterrupt:
         print(f"seispound: interrupted; finished runs are kept in {out} and its journal: "

@@ -188,3 +188,26 @@ def test_query_answers_equal_values_from_single_runs(reference_store):
         passing = [g for g in gaps if max(float(singles[(rec, law, g)].amplification.max())
                                           for rec in ("elcentro_180", "elcentro_270")) < thr]
         assert got[law] == (min(passing) if passing else None)
+
+
+def test_without_dask_the_default_runs_serially_and_says_so(tmp_path, monkeypatch, capsys):
+    import importlib.util
+
+    from seispound import cli as cli_mod
+
+    study = write_study(tmp_path, duration=3.0, records=("elcentro_180",), gaps=(0.01,))
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "dask" else real(name, *a))
+    called = {}
+    orig = ex.run_study
+
+    def spy(*a, **kw):
+        called["scheduler"] = kw["scheduler"]
+        return orig(*a, **kw)
+
+    monkeypatch.setattr("seispound.study.run_study", spy)
+    assert cli_mod.main(["study", str(study), "-o", str(tmp_path / "s.h5")]) == 0
+    err = capsys.readouterr().err
+    assert called["scheduler"] == "serial"
+    assert "dask is not installed" in err and "seispound[dask]" in err
+    assert int(xr.open_dataset(tmp_path / "s.h5", engine="h5netcdf").status.sum()) == 2

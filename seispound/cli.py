@@ -124,9 +124,9 @@ def _study(args) -> int:
     study = load_study(path)
     scheduler = args.scheduler
     if scheduler is None:  # all cores with dask (the `dask` extra); one without it
-        import importlib.util
+        from .study.execute import default_scheduler
 
-        scheduler = "local" if importlib.util.find_spec("dask") else "serial"
+        scheduler = default_scheduler()
         if scheduler == "serial" and not args.quiet:
             print("seispound: dask is not installed, so the runs go one at a time in this process; "
                   "pip install 'seispound[dask]' to use every core", file=sys.stderr)

@@ -24,7 +24,7 @@ from .schema import STATUS_DONE, STATUS_FAILED
 from .store import write_store
 from .worker import chunk_task, twin_task
 
-__all__ = ["run_study", "plan"]
+__all__ = ["run_study", "plan", "default_scheduler"]
 
 
 def plan(study, todo, n_workers: int, chunk: int | None = None) -> list:
@@ -89,7 +89,7 @@ def _fmt_time(s: float) -> str:
     return f"{s / 3600:.1f} h"
 
 
-def run_study(study, out, *, scheduler: str = "local", workers: int | None = None, chunk: int | None = None,
+def run_study(study, out, *, scheduler: str | None = None, workers: int | None = None, chunk: int | None = None,
               progress: bool = True, snapshot: float = 30.0, overwrite: bool = False) -> dict:
     """Run every run of ``study`` not yet in the store ``out``; write the store; return counts.
 
@@ -99,9 +99,10 @@ def run_study(study, out, *, scheduler: str = "local", workers: int | None = Non
     out : path
         The store (.h5).  Its journal ``out.journal`` holds finished runs until
         the study is complete.
-    scheduler : str
-        "local" (default: dask's local multiprocessing scheduler, ``workers``
-        processes forked from this one), "cluster" (a dask.distributed
+    scheduler : str, optional
+        "local" (dask's local multiprocessing scheduler, ``workers``
+        processes forked from this one; the default when dask is installed,
+        else "serial"), "cluster" (a dask.distributed
         LocalCluster of ``workers`` processes, one thread each),
         "tcp://HOST:PORT" (an existing dask.distributed scheduler: the way to
         more machines), or "serial" (in this process, no dask).
@@ -121,6 +122,8 @@ def run_study(study, out, *, scheduler: str = "local", workers: int | None = Non
     dict with done, failed, pending, ran (runs computed now), seconds.
     """
     out = Path(out)
+    if scheduler is None:
+        scheduler = default_scheduler()
     if out.suffix.lower() not in (".h5", ".hdf5", ".nc"):
         raise InputError("the store must end in .h5, .hdf5 or .nc", file=out, key="-o")
     if not out.parent.is_dir():
@@ -151,6 +154,13 @@ def run_study(study, out, *, scheduler: str = "local", workers: int | None = Non
         raise
     finally:
         journal.close()
+
+
+def default_scheduler() -> str:
+    """"local" (every core, through dask) when dask is installed, else "serial"."""
+    import importlib.util
+
+    return "local" if importlib.util.find_spec("dask") else "serial"
 
 
 def _execute(study, out, journal, scheduler, workers, chunk, progress, snapshot) -> dict:

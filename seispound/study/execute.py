@@ -22,7 +22,7 @@ from ..errors import InputError
 from .journal import Journal, journal_path
 from .schema import STATUS_DONE, STATUS_FAILED
 from .store import write_store
-from .worker import chunk_task, twin_task
+from .worker import chunk_task, run_one, twin_task
 
 __all__ = ["run_study", "plan", "default_scheduler"]
 
@@ -171,6 +171,7 @@ def _execute(study, out, journal, scheduler, workers, chunk, progress, snapshot)
     prog = Progress(study.n_runs, already, progress)
     prog.failed = n_failed0
     state = {"last_snapshot": time.perf_counter()}
+    stop = _StopOnInterrupt()
 
     def collect(results):
         nd = nf = 0
@@ -183,15 +184,17 @@ def _execute(study, out, journal, scheduler, workers, chunk, progress, snapshot)
             journal.sync()
             write_store(study, journal.records, out)
             state["last_snapshot"] = time.perf_counter()
+        stop.check()
 
     try:
-        if todo:
-            if scheduler == "serial":
-                _run_serial(study, todo, chunk, collect)
-            elif scheduler == "local":
-                _run_local(study, todo, workers, chunk, collect)
-            else:
-                _run_distributed(study, todo, scheduler, workers, chunk, collect)
+        with stop:
+            if todo:
+                if scheduler == "serial":
+                    _run_serial(study, todo, chunk, collect)
+                elif scheduler == "local":
+                    _run_local(study, todo, workers, chunk, collect)
+                else:
+                    _run_distributed(study, todo, scheduler, workers, chunk, collect)
     except KeyboardInterrupt:
         prog.close()
         journal.sync()
@@ -206,11 +209,59 @@ def _execute(study, out, journal, scheduler, workers, chunk, progress, snapshot)
     return dict(counts, ran=len(todo), seconds=time.perf_counter() - t0)
 
 
+class _StopOnInterrupt:
+    """Ctrl-C (SIGINT) while a study runs: finish collecting what is done, then stop.
+
+    The handler only raises a flag, checked after each collected result, so
+    that the interrupt cannot be swallowed on its way through library code
+    (record readers that probe formats inside bare ``except:`` clauses do).
+    A second Ctrl-C interrupts at once.  Outside the main thread nothing is
+    installed and Python's own handling applies.
+    """
+
+    def __init__(self):
+        self.requested = False
+        self._previous = None
+
+    def __enter__(self):
+        import signal
+        import threading
+
+        if threading.current_thread() is threading.main_thread():
+            self._previous = signal.signal(signal.SIGINT, self._handler)
+        return self
+
+    def _handler(self, signum, frame):
+        import signal
+
+        self.requested = True
+        signal.signal(signal.SIGINT, signal.default_int_handler)  # a second Ctrl-C: at once
+
+    def check(self) -> None:
+        if self.requested:
+            raise KeyboardInterrupt
+
+    def __exit__(self, *exc):
+        import signal
+
+        if self._previous is not None:
+            signal.signal(signal.SIGINT, self._previous)
+        return False
+
+
+def _ignore_sigint() -> None:
+    """Pool workers leave Ctrl-C to the main process, which stops them after their task."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def _run_serial(study, todo, chunk, collect) -> None:
     for first, chunks in plan(study, todo, 1, chunk):
         twin = twin_task(study, first)
         for c in chunks:
-            collect(chunk_task(study, c, twin))
+            for i in c:  # run by run: an interrupt waits for one run at most
+                collect([run_one(study, i, twin)])
 
 
 def _run_local(study, todo, workers, chunk, collect) -> None:
@@ -258,7 +309,7 @@ def _run_local(study, todo, workers, chunk, collect) -> None:
         ctx = multiprocessing.get_context("fork")
     except ValueError:  # pragma: no cover - no fork on this platform
         ctx = multiprocessing.get_context("spawn")
-    pool = ProcessPoolExecutor(n, mp_context=ctx)
+    pool = ProcessPoolExecutor(n, mp_context=ctx, initializer=_ignore_sigint)
     try:
         with Callback(posttask=posttask):
             mp_get(dsk, keys, num_workers=n, pool=pool, chunksize=1, optimize_graph=False)

@@ -81,11 +81,13 @@ def test_sigkill_then_resume_equals_uninterrupted(study_and_reference, tmp_path,
     assert resumed.identical(reference)
 
 
-def test_sigint_keeps_the_finished_runs(study_and_reference, tmp_path):
+@pytest.mark.parametrize("scheduler", ["serial", "local"])
+def test_sigint_keeps_the_finished_runs(study_and_reference, tmp_path, scheduler):
+    """Ctrl-C reaches every process of the group, at whatever the study is doing (reading a record ...)."""
     study_file, reference = study_and_reference
     h = load_study(study_file).hash()
     out = tmp_path / "interrupted.h5"
-    proc = start(study_file, out)
+    proc = start(study_file, out, scheduler)
     wait_for_runs(proc, out, h, 5)
     os.killpg(proc.pid, signal.SIGINT)
     _, err = proc.communicate(timeout=60)

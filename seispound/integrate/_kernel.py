@@ -693,10 +693,15 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     ngw = max(ng, 1)
     # Woodbury columns K_hat^-1 b_g for the current factor: nonzero only on the
     # DOFs gap_lo[g]..gap_hi[g]-1 of the two buildings the gap links (zero elsewhere)
-    Wc = np.zeros((ngw, n))
+    # (two sets: the level factor's, which survive an odd located step in
+    # between, and the scratch factor's)
+    Wc_level = np.zeros((ngw, n))
+    Wc_scratch = np.zeros((ngw, n))
     batch = np.empty(ngw, np.int64)
-    Wc_ok = np.zeros(ngw, np.bool_)
+    Wc_ok_level = np.zeros(ngw, np.bool_)
+    Wc_ok_scratch = np.zeros(ngw, np.bool_)
     Wc_lev = -2
+    Wc_h = -1.0
     Sm = np.empty((ngw, ngw))
     Gm = np.empty((ngw, ngw))  # B^T K_hat^-1 B for the gaps in contact
     ym = np.empty(ngw)
@@ -943,11 +948,21 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 stats[S_ITERATIONS] += 1
                 converged = m_act == 0
                 if m_act > 0:
-                    # Woodbury columns K_hat^-1 b_g, cached while the factor is a level factor
-                    if lv < 0 or lv != Wc_lev:
-                        for g in range(ngw):
-                            Wc_ok[g] = False
-                        Wc_lev = lv
+                    # Woodbury columns K_hat^-1 b_g, cached per factor (level or scratch)
+                    if lv >= 0:
+                        if lv != Wc_lev:
+                            for g in range(ngw):
+                                Wc_ok_level[g] = False
+                            Wc_lev = lv
+                        Wc = Wc_level
+                        Wc_ok = Wc_ok_level
+                    else:
+                        if h != Wc_h:
+                            for g in range(ngw):
+                                Wc_ok_scratch[g] = False
+                            Wc_h = h
+                        Wc = Wc_scratch
+                        Wc_ok = Wc_ok_scratch
                     for q in range(m_act):
                         g = act_list[q]
                         if not Wc_ok[g]:

@@ -1,7 +1,7 @@
 """A bare linear Newmark-beta loop: the floor of what a time loop of this size can cost.
 
 Used only by ``python -m seispound.bench`` as the in-process reference.  Same
-banded Cholesky factor and solve as the kernel, no contact, no energy, no events:
+factor (L D L^T when tridiagonal) and solve as the kernel, no contact, no energy, no events:
 incremental average-acceleration Newmark (Chopra Table 5.4.2) on the assembled system.
 """
 

@@ -13,14 +13,19 @@ step the residual
 
 must vanish, B holding b_g = e_left - e_right for each gap and F the contact
 forces.  K_hat = K + gamma/(beta h) C + 1/(beta h^2) M is banded (shear
-buildings: tridiagonal) and factored once per step size by a banded Cholesky.
-The storeys being linear, the step increment is Du = Du_lin - W F with
-Du_lin = K_hat^-1 R(u) and W = K_hat^-1 B (Sherman-Morrison-Woodbury), so the
-Newton-Raphson iteration runs on the m contact forces of the gaps in contact
-only: F = F_law(delta_lin - G F, rate_lin - gamma/(beta h) G F), G = B^T W.
-Its residual F - F_law is exactly R at the gap DOFs (R is zero elsewhere) and
-is tested against rtol times the largest force.  A step costs one banded solve,
-O(n * bandwidth), plus O(m^3) per iteration and O(n m) to recover Du.
+buildings: tridiagonal, factored L D L^T; otherwise banded Cholesky) and
+factored once per step size.  The storeys being linear, the step increment is
+Du = Du_lin - K_hat^-1 B F with Du_lin = K_hat^-1 R(u) (Sherman-Morrison-
+Woodbury), so the Newton-Raphson iteration runs on the m contact forces of
+the gaps in contact only: F = F_law(delta_lin - G F, rate_lin - gamma/(beta h)
+G F), G = B^T K_hat^-1 B.  Its residual F - F_law is exactly R at the gap DOFs
+(R is zero elsewhere) and is tested against rtol times the largest force.
+G and K_hat^-1 B F come from Woodbury columns K_hat^-1 b_g cached per factor
+of the dt/2^k grid (they serve every substep of that size), and, for a
+located step's one-off size, from the semiseparable inverse of the
+tridiagonal K_hat (``_inverse_diagonals``): O(n + m^2) instead of m new
+columns in O(n m).  A step costs one banded solve, O(n * bandwidth), plus
+O(m^3) per iteration.
 
 Contact events: the set of gaps in contact is frozen during a step.  After a
 step, a gap that opened or closed inside it (sign change of the penetration,
@@ -88,10 +93,15 @@ N_STATS = 7
 
 @njit(cache=True)
 def _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L):
-    """Banded Cholesky of K_hat(h) into L[i, d] = L(i, i - d), d <= p; L[i, p + 1] = 1 / L(i, i).
+    """Factor K_hat(h) in place into L, shape (n, p + 2); False if K_hat is not positive definite.
 
-    L has shape (n, p + 2); the stored reciprocals turn the solves' divisions
-    into multiplications.  Returns False if K_hat is not positive definite.
+    Tridiagonal (p = 1, shear buildings): K_hat = L D L^T with L unit lower
+    bidiagonal, stored as L[i, 0] = D_i, L[i, 1] = l_i = L(i, i - 1),
+    L[i, 2] = 1 / D_i (no square root, and the recurrences of the factor and
+    the solves carry one fused multiply-add per row instead of two operations).
+    Otherwise banded Cholesky K_hat = L L^T: L[i, d] = L(i, i - d), d <= p, and
+    L[i, p + 1] = 1 / L(i, i).  The stored reciprocals turn the solves'
+    divisions into multiplications.
     """
     n = mass.size
     cm = 1.0 / (beta * h * h)
@@ -111,17 +121,18 @@ def _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L):
                 L[i, i - j] -= kk
             else:
                 L[j, j - i] -= kk
-    if p == 1:  # shear buildings: tridiagonal, one straight-line recurrence (same arithmetic)
+    if p == 1:  # shear buildings: tridiagonal LDL^T, one straight-line recurrence
         for j in range(n):
             s = L[j, 0]
             if j > 0:
-                lj = L[j, 1] * L[j - 1, 2]
+                c = L[j, 1]  # K_hat(j, j - 1)
+                lj = c * L[j - 1, 2]
                 L[j, 1] = lj
-                s -= lj * lj
+                s -= lj * c
             if s <= 0.0:
                 return False
-            L[j, 0] = math.sqrt(s)
-            L[j, 2] = 1.0 / L[j, 0]
+            L[j, 0] = s
+            L[j, 2] = 1.0 / s
         return True
     # in place: A is read from L's lower band before it is overwritten
     for j in range(n):
@@ -153,13 +164,13 @@ def _solve_range(L, p, b, x, lo, hi):
     K_hat is block diagonal over the buildings, so with b zero outside
     [lo, hi) the solution is zero there too and only these rows take part.
     """
-    if p == 1:  # shear buildings: tridiagonal, straight-line recurrences
-        x[lo] = b[lo] * L[lo, 2]
+    if p == 1:  # shear buildings: L D L^T, straight-line recurrences
+        x[lo] = b[lo]
         for i in range(lo + 1, hi):
-            x[i] = (b[i] - L[i, 1] * x[i - 1]) * L[i, 2]
+            x[i] = b[i] - L[i, 1] * x[i - 1]
         x[hi - 1] *= L[hi - 1, 2]
         for i in range(hi - 2, lo - 1, -1):
-            x[i] = (x[i] - L[i + 1, 1] * x[i + 1]) * L[i, 2]
+            x[i] = x[i] * L[i, 2] - L[i + 1, 1] * x[i + 1]
         return
     for i in range(lo, hi):
         s = b[i]
@@ -171,6 +182,111 @@ def _solve_range(L, p, b, x, lo, hi):
         for k in range(i + 1, min(hi, i + p + 1)):
             s -= L[k, k - i] * x[k]
         x[i] = s * L[i, p + 1]
+
+
+@njit(cache=True)
+def _inverse_diagonals(L, p, sig, Sd):
+    """Ratios and diagonal of K_hat^-1 from a tridiagonal (p = 1) or diagonal (p = 0) factor L.
+
+    With K_hat = L D L^T, L unit lower bidiagonal (subdiagonal l_i), the
+    inverse of a symmetric tridiagonal matrix is semiseparable (Meurant 1992,
+    SIAM J. Matrix Anal. Appl. 13(3) 707-728, Sec. 2): for a <= b
+
+        (K_hat^-1)_ab = Sd_b * prod_{k=a+1}^{b} sig_k,   sig_k = -l_k,
+        Sd_b = (K_hat^-1)_bb = 1 / D_b + sig_(b+1)^2 Sd_(b+1),
+
+    which follows from (L^-1)_ib = prod_{k=b+1}^{i} (-l_k) and
+    K_hat^-1 = L^-T D^-1 L^-1.  Unlike
+    the product form u_a v_b it neither overflows nor underflows: every factor
+    is a ratio.  sig_k = 0 where no storey couples DOFs k - 1 and k (between
+    buildings), so entries across buildings come out exactly zero.
+    Shapes: L (n, p + 2); sig, Sd (n,) [sig: -, Sd: m/N].
+    """
+    n = L.shape[0]
+    if p == 0:  # diagonal K_hat (single-storey buildings): L[i, 1] = 1 / L(i, i)
+        for i in range(n):
+            sig[i] = 0.0
+            Sd[i] = L[i, 1] * L[i, 1]
+        return
+    sig[0] = 0.0
+    for i in range(1, n):
+        sig[i] = -L[i, 1]
+    Sd[n - 1] = L[n - 1, 2]
+    for i in range(n - 2, -1, -1):
+        Sd[i] = L[i, 2] + sig[i + 1] * sig[i + 1] * Sd[i + 1]
+
+
+# entries of K_hat^-1 below this fraction of the diagonal are set to zero
+# (they underflow anyway, and subnormal products are slow)
+INVERSE_FLOOR = 1e-200
+
+
+@njit(cache=True)
+def _compliance_tridiagonal(m, act_list, gap_i, gap_j, sig, Sd, Gm, dofs, order, pos, span, Kd):
+    """G = B^T K_hat^-1 B for the m gaps in contact, from the semiseparable inverse (``_inverse_diagonals``).
+
+    The 2m gap DOFs are sorted; the product of sig between each sorted pair of
+    neighbours costs one pass over the floors they span, and every entry of
+    K_hat^-1 among them follows as a running product: O(n + m^2) per call,
+    independent of how many gaps are closed (columns K_hat^-1 b_g would cost
+    O(n m)).  Shapes: Gm (>= m, >= m); dofs, order, pos, span (>= 2m,);
+    Kd (>= 2m, >= 2m) scratch.
+    """
+    if m == 1:  # one gap closed: G = Sd_i + Sd_j - 2 (K_hat^-1)_ij
+        g = act_list[0]
+        a = min(gap_i[g], gap_j[g])
+        b = max(gap_i[g], gap_j[g])
+        prod = 1.0
+        for c in range(a + 1, b + 1):
+            prod *= sig[c]
+            if abs(prod) < INVERSE_FLOOR:
+                prod = 0.0
+                break
+        Gm[0, 0] = Sd[a] + Sd[b] - 2.0 * Sd[b] * prod
+        return
+    k = 2 * m
+    for q in range(m):
+        g = act_list[q]
+        dofs[2 * q] = gap_i[g]
+        dofs[2 * q + 1] = gap_j[g]
+    for s in range(k):  # insertion sort: k is small
+        order[s] = s
+    for s in range(1, k):
+        o = order[s]
+        x = dofs[o]
+        t = s - 1
+        while t >= 0 and dofs[order[t]] > x:
+            order[t + 1] = order[t]
+            t -= 1
+        order[t + 1] = o
+    for s in range(k):
+        pos[order[s]] = s
+    for s in range(k - 1):
+        prod = 1.0
+        for c in range(dofs[order[s]] + 1, dofs[order[s + 1]] + 1):
+            prod *= sig[c]
+            if abs(prod) < INVERSE_FLOOR:
+                prod = 0.0
+                break
+        span[s] = prod
+    for s in range(k):
+        Kd[s, s] = Sd[dofs[order[s]]]
+        prod = 1.0
+        for t in range(s + 1, k):
+            if prod != 0.0:
+                prod *= span[t - 1]
+                if abs(prod) < INVERSE_FLOOR:
+                    prod = 0.0
+            Kd[s, t] = Sd[dofs[order[t]]] * prod
+            Kd[t, s] = Kd[s, t]
+    for q in range(m):
+        a = pos[2 * q]
+        b = pos[2 * q + 1]
+        for r in range(q, m):
+            c = pos[2 * r]
+            d = pos[2 * r + 1]
+            Gm[q, r] = Kd[a, c] - Kd[a, d] - Kd[b, c] + Kd[b, d]
+            Gm[r, q] = Gm[q, r]
 
 
 @njit(cache=True)
@@ -191,15 +307,11 @@ def _woodbury_columns(L, p, W, rows, nr, lo, hi, gap_i, gap_j):
         for r in range(nr):
             _solve_range(L, p, W[rows[r]], W[rows[r]], lo, hi)  # in place: b[i] is read before x[i] is written
         return
-    d = L[lo, 2]
-    for r in range(nr):
-        W[rows[r], lo] *= d
-    for i in range(lo + 1, hi):
+    for i in range(lo + 1, hi):  # L D L^T (``_factor``)
         l1 = L[i, 1]
-        d = L[i, 2]
         for r in range(nr):
             g = rows[r]
-            W[g, i] = (W[g, i] - l1 * W[g, i - 1]) * d
+            W[g, i] -= l1 * W[g, i - 1]
     d = L[hi - 1, 2]
     for r in range(nr):
         W[rows[r], hi - 1] *= d
@@ -208,7 +320,90 @@ def _woodbury_columns(L, p, W, rows, nr, lo, hi, gap_i, gap_j):
         d = L[i, 2]
         for r in range(nr):
             g = rows[r]
-            W[g, i] = (W[g, i] - l1 * W[g, i + 1]) * d
+            W[g, i] = W[g, i] * d - l1 * W[g, i + 1]
+
+
+# With up to this many gaps closed (and a tridiagonal K_hat) the contact share
+# of a step is added column by column, each column one outward pass that stops
+# where it underflows; with more, one sparse solve is cheaper.
+COLUMN_GAPS = 2
+
+
+@njit(cache=True)
+def _subtract_column(sig, Sd, c, f, Du):
+    """Du -= f K_hat^-1 e_c for a tridiagonal K_hat, from its semiseparable inverse (``_inverse_diagonals``).
+
+    (K_hat^-1)_ac = Sd_c prod_{k=a+1}^{c} sig_k below c and Sd_a prod_{k=c+1}^{a} sig_k
+    above: one pass outward from c each way, which stops at the building's
+    ends (sig = 0) or where the column has decayed below INVERSE_FLOOR.
+    """
+    n = Du.size
+    x0 = f * Sd[c]
+    Du[c] -= x0
+    floor = abs(x0) * INVERSE_FLOOR
+    x = x0
+    a = c - 1
+    while a >= 0:
+        x *= sig[a + 1]
+        if abs(x) <= floor:
+            break
+        Du[a] -= x
+        a -= 1
+    floor = abs(f) * INVERSE_FLOOR
+    y = f
+    a = c + 1
+    while a < n:
+        y *= sig[a]
+        if abs(y) <= floor:
+            break
+        Du[a] -= Sd[a] * y
+        a += 1
+
+
+@njit(cache=True)
+def _subtract_contact(L, p, m, act_list, gap_i, gap_j, gap_lo, gap_hi, Fm, sig, Sd, xs, Du):
+    """Du -= K_hat^-1 B F: the contact forces' share of the step.
+
+    Tridiagonal or diagonal K_hat (p <= 1).  With at most COLUMN_GAPS gaps
+    closed: column by column (``_subtract_column``).  Otherwise one sparse
+    solve: the right-hand side is nonzero at the 2m gap DOFs only, so it runs
+    on the blocks the closed gaps link, and its forward sweep starts at the
+    lowest gap DOF (the rows below it stay zero).  xs (n,) scratch.
+    """
+    if p == 0 or m <= COLUMN_GAPS:
+        for q in range(m):
+            if Fm[q] != 0.0:
+                g = act_list[q]
+                _subtract_column(sig, Sd, gap_i[g], Fm[q], Du)
+                _subtract_column(sig, Sd, gap_j[g], -Fm[q], Du)
+        return
+    lo = L.shape[0]
+    hi = 0
+    first = L.shape[0]
+    nonzero = False
+    for q in range(m):
+        g = act_list[q]
+        lo = min(lo, gap_lo[g])
+        hi = max(hi, gap_hi[g])
+        first = min(first, gap_i[g], gap_j[g])
+        nonzero = nonzero or Fm[q] != 0.0
+    if not nonzero:
+        return
+    for i in range(lo, hi):
+        xs[i] = 0.0
+    for q in range(m):
+        g = act_list[q]
+        xs[gap_i[g]] += Fm[q]
+        xs[gap_j[g]] -= Fm[q]
+    x = xs[first]  # L D L^T (``_factor``)
+    for i in range(first + 1, hi):
+        x = xs[i] - L[i, 1] * x
+        xs[i] = x
+    x = xs[hi - 1] * L[hi - 1, 2]
+    Du[hi - 1] -= x
+    for i in range(hi - 2, lo - 1, -1):
+        x = xs[i] * L[i, 2] - L[i + 1, 1] * x
+        Du[i] -= x
 
 
 @njit(cache=True)
@@ -691,17 +886,31 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     Av = np.empty(n)
     Vv = np.empty(n)
     ngw = max(ng, 1)
+    # K_hat^-1 among the gap DOFs: semiseparable ratios per factor (tridiagonal
+    # and diagonal K_hat) or, for a wider band, columns K_hat^-1 b_g per step
+    tri = p <= 1
+    nt_ = n if tri else 1
+    sig_lev = np.empty((n_lev if tri else 1, nt_))
+    Sd_lev = np.empty((n_lev if tri else 1, nt_))
+    sig_h = np.empty(nt_)
+    Sd_h = np.empty(nt_)
     # Woodbury columns K_hat^-1 b_g for the current factor: nonzero only on the
     # DOFs gap_lo[g]..gap_hi[g]-1 of the two buildings the gap links (zero elsewhere)
     # (two sets: the level factor's, which survive an odd located step in
     # between, and the scratch factor's)
     Wc_level = np.zeros((ngw, n))
-    Wc_scratch = np.zeros((ngw, n))
+    Wc_scratch = np.zeros((ngw, n) if not tri else (1, 1))
     batch = np.empty(ngw, np.int64)
     Wc_ok_level = np.zeros(ngw, np.bool_)
     Wc_ok_scratch = np.zeros(ngw, np.bool_)
     Wc_lev = -2
     Wc_h = -1.0
+    dofs = np.empty(2 * ngw, np.int64)
+    order = np.empty(2 * ngw, np.int64)
+    pos = np.empty(2 * ngw, np.int64)
+    span = np.empty(2 * ngw)
+    Kd = np.empty((2 * ngw, 2 * ngw) if tri else (1, 1))
+    xs = np.empty(n)
     Sm = np.empty((ngw, ngw))
     Gm = np.empty((ngw, ngw))  # B^T K_hat^-1 B for the gaps in contact
     ym = np.empty(ngw)
@@ -759,6 +968,12 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
 
     if not _factor(dt, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[0]):
         return NEWTON_FAILED, 0, 0.0
+    if tri:
+        _inverse_diagonals(L_lev[0], p, sig_lev[0], Sd_lev[0])
+    sig = sig_h  # the current factor's ratios and diagonal (set with Lf)
+    Sd = Sd_h
+    Wc = Wc_level  # the current factor's Woodbury columns
+    Wc_ok = Wc_ok_level
     have_lev[0] = True
     stats[S_FACTORIZATIONS] += 1
     h_cached = -1.0
@@ -912,16 +1127,26 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     if not have_lev[lv]:
                         if not _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[lv]):
                             return NEWTON_FAILED, n_imp, t
+                        if tri:
+                            _inverse_diagonals(L_lev[lv], p, sig_lev[lv], Sd_lev[lv])
                         have_lev[lv] = True
                         stats[S_FACTORIZATIONS] += 1
                     Lf = L_lev[lv]
+                    if tri:
+                        sig = sig_lev[lv]
+                        Sd = Sd_lev[lv]
                 else:
                     if abs(h - h_cached) > 1e-14 * h:
                         if not _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_h):
                             return NEWTON_FAILED, n_imp, t
+                        if tri:
+                            _inverse_diagonals(L_h, p, sig_h, Sd_h)
                         stats[S_FACTORIZATIONS] += 1
                         h_cached = h
                     Lf = L_h
+                    if tri:
+                        sig = sig_h
+                        Sd = Sd_h
                 cm = 1.0 / (beta * h * h)
                 cc = gamma / (beta * h)
                 if h == dt and t == step * dt:  # a whole analysis step: on the record's grid
@@ -948,8 +1173,15 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 stats[S_ITERATIONS] += 1
                 converged = m_act == 0
                 if m_act > 0:
-                    # Woodbury columns K_hat^-1 b_g, cached per factor (level or scratch)
-                    if lv >= 0:
+                    # G = B^T K_hat^-1 B on the gaps in contact.  A level factor
+                    # (or a wider band) keeps Woodbury columns K_hat^-1 b_g, cached
+                    # per factor, that serve every step of that size; a located
+                    # step's one-off factor takes G from the semiseparable inverse
+                    # in O(n + m^2) instead of m new columns in O(n m).
+                    columns = lv >= 0 or not tri
+                    if not columns:
+                        _compliance_tridiagonal(m_act, act_list, gap_i, gap_j, sig, Sd, Gm, dofs, order, pos, span, Kd)
+                    elif lv >= 0:
                         if lv != Wc_lev:
                             for g in range(ngw):
                                 Wc_ok_level[g] = False
@@ -963,7 +1195,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                             Wc_h = h
                         Wc = Wc_scratch
                         Wc_ok = Wc_ok_scratch
-                    for q in range(m_act):
+                    for q in range(m_act if columns else 0):
                         g = act_list[q]
                         if not Wc_ok[g]:
                             # every missing column on the same blocks, solved together
@@ -989,18 +1221,21 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         Fm[q] = F[g]  # start from the force at the start of the step,
                         if age[g] >= 1:  # extrapolated along the last accepted substep
                             Fm[q] += (F[g] - F_old[g]) * (h / h_old[g])
-                        for r in range(m_act):
-                            gr = act_list[r]
-                            Gm[q, r] = Wc[gr, ii] - Wc[gr, jj]
+                        if columns:
+                            for r in range(m_act):
+                                gr = act_list[r]
+                                Gm[q, r] = Wc[gr, ii] - Wc[gr, jj]
                     converged, it = _newton(m_act, act_list, Gm, dl, rl, Fm, cc, gap_law, gap_par, zeta, scale,
                                             rtol, max_iter, resv, kt, Sm, ym)
                     stats[S_ITERATIONS] += it
                     for q in range(m_act):
                         g = act_list[q]
                         F1[g] = Fm[q]
-                        if Fm[q] != 0.0:
+                        if columns and Fm[q] != 0.0:
                             for i in range(gap_lo[g], gap_hi[g]):
                                 Du[i] -= Fm[q] * Wc[g, i]
+                    if not columns:
+                        _subtract_contact(Lf, p, m_act, act_list, gap_i, gap_j, gap_lo, gap_hi, Fm, sig, Sd, xs, Du)
                     if it > stats[S_MAX_ITER]:
                         stats[S_MAX_ITER] = it
                 if not converged:

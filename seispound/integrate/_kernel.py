@@ -323,60 +323,20 @@ def _woodbury_columns(L, p, W, rows, nr, lo, hi, gap_i, gap_j):
             W[g, i] = W[g, i] * d - l1 * W[g, i + 1]
 
 
-# With up to this many gaps closed (and a tridiagonal K_hat) the contact share
-# of a step is added column by column, each column one outward pass that stops
-# where it underflows; with more, one sparse solve is cheaper.
-COLUMN_GAPS = 2
+# A located step's one-off factor takes the semiseparable shortcut when at
+# least this many gaps are closed; with fewer, m Woodbury columns cost less.
+SEMISEPARABLE_GAPS = 3
 
 
 @njit(cache=True)
-def _subtract_column(sig, Sd, c, f, Du):
-    """Du -= f K_hat^-1 e_c for a tridiagonal K_hat, from its semiseparable inverse (``_inverse_diagonals``).
+def _subtract_contact(L, p, m, act_list, gap_i, gap_j, gap_lo, gap_hi, Fm, xs, Du):
+    """Du -= K_hat^-1 B F: the contact forces' share of the step, one sparse solve.
 
-    (K_hat^-1)_ac = Sd_c prod_{k=a+1}^{c} sig_k below c and Sd_a prod_{k=c+1}^{a} sig_k
-    above: one pass outward from c each way, which stops at the building's
-    ends (sig = 0) or where the column has decayed below INVERSE_FLOOR.
+    Tridiagonal (L D L^T) or diagonal K_hat (p <= 1).  The right-hand side is
+    nonzero at the 2m gap DOFs only, so the solve runs on the blocks the closed
+    gaps link, and its forward sweep starts at the lowest gap DOF (the rows
+    below it stay zero).  xs (n,) scratch.
     """
-    n = Du.size
-    x0 = f * Sd[c]
-    Du[c] -= x0
-    floor = abs(x0) * INVERSE_FLOOR
-    x = x0
-    a = c - 1
-    while a >= 0:
-        x *= sig[a + 1]
-        if abs(x) <= floor:
-            break
-        Du[a] -= x
-        a -= 1
-    floor = abs(f) * INVERSE_FLOOR
-    y = f
-    a = c + 1
-    while a < n:
-        y *= sig[a]
-        if abs(y) <= floor:
-            break
-        Du[a] -= Sd[a] * y
-        a += 1
-
-
-@njit(cache=True)
-def _subtract_contact(L, p, m, act_list, gap_i, gap_j, gap_lo, gap_hi, Fm, sig, Sd, xs, Du):
-    """Du -= K_hat^-1 B F: the contact forces' share of the step.
-
-    Tridiagonal or diagonal K_hat (p <= 1).  With at most COLUMN_GAPS gaps
-    closed: column by column (``_subtract_column``).  Otherwise one sparse
-    solve: the right-hand side is nonzero at the 2m gap DOFs only, so it runs
-    on the blocks the closed gaps link, and its forward sweep starts at the
-    lowest gap DOF (the rows below it stay zero).  xs (n,) scratch.
-    """
-    if p == 0 or m <= COLUMN_GAPS:
-        for q in range(m):
-            if Fm[q] != 0.0:
-                g = act_list[q]
-                _subtract_column(sig, Sd, gap_i[g], Fm[q], Du)
-                _subtract_column(sig, Sd, gap_j[g], -Fm[q], Du)
-        return
     lo = L.shape[0]
     hi = 0
     first = L.shape[0]
@@ -395,6 +355,10 @@ def _subtract_contact(L, p, m, act_list, gap_i, gap_j, gap_lo, gap_hi, Fm, sig, 
         g = act_list[q]
         xs[gap_i[g]] += Fm[q]
         xs[gap_j[g]] -= Fm[q]
+    if p == 0:
+        for i in range(lo, hi):
+            Du[i] -= xs[i] * L[i, 1] * L[i, 1]
+        return
     x = xs[first]  # L D L^T (``_factor``)
     for i in range(first + 1, hi):
         x = xs[i] - L[i, 1] * x
@@ -888,18 +852,18 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     ngw = max(ng, 1)
     # K_hat^-1 among the gap DOFs: semiseparable ratios per factor (tridiagonal
     # and diagonal K_hat) or, for a wider band, columns K_hat^-1 b_g per step
+    # (the level factors use cached Woodbury columns instead, so only the
+    # scratch factor's are kept, computed when a step with a gap closed needs them)
     tri = p <= 1
-    nt_ = n if tri else 1
-    sig_lev = np.empty((n_lev if tri else 1, nt_))
-    Sd_lev = np.empty((n_lev if tri else 1, nt_))
-    sig_h = np.empty(nt_)
-    Sd_h = np.empty(nt_)
+    sig_h = np.empty(n if tri else 1)
+    Sd_h = np.empty(n if tri else 1)
+    inv_ok = False
     # Woodbury columns K_hat^-1 b_g for the current factor: nonzero only on the
     # DOFs gap_lo[g]..gap_hi[g]-1 of the two buildings the gap links (zero elsewhere)
     # (two sets: the level factor's, which survive an odd located step in
     # between, and the scratch factor's)
     Wc_level = np.zeros((ngw, n))
-    Wc_scratch = np.zeros((ngw, n) if not tri else (1, 1))
+    Wc_scratch = np.zeros((ngw, n))
     batch = np.empty(ngw, np.int64)
     Wc_ok_level = np.zeros(ngw, np.bool_)
     Wc_ok_scratch = np.zeros(ngw, np.bool_)
@@ -968,10 +932,6 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
 
     if not _factor(dt, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[0]):
         return NEWTON_FAILED, 0, 0.0
-    if tri:
-        _inverse_diagonals(L_lev[0], p, sig_lev[0], Sd_lev[0])
-    sig = sig_h  # the current factor's ratios and diagonal (set with Lf)
-    Sd = Sd_h
     Wc = Wc_level  # the current factor's Woodbury columns
     Wc_ok = Wc_ok_level
     have_lev[0] = True
@@ -1127,26 +1087,17 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     if not have_lev[lv]:
                         if not _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[lv]):
                             return NEWTON_FAILED, n_imp, t
-                        if tri:
-                            _inverse_diagonals(L_lev[lv], p, sig_lev[lv], Sd_lev[lv])
                         have_lev[lv] = True
                         stats[S_FACTORIZATIONS] += 1
                     Lf = L_lev[lv]
-                    if tri:
-                        sig = sig_lev[lv]
-                        Sd = Sd_lev[lv]
                 else:
                     if abs(h - h_cached) > 1e-14 * h:
                         if not _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_h):
                             return NEWTON_FAILED, n_imp, t
-                        if tri:
-                            _inverse_diagonals(L_h, p, sig_h, Sd_h)
                         stats[S_FACTORIZATIONS] += 1
                         h_cached = h
+                        inv_ok = False
                     Lf = L_h
-                    if tri:
-                        sig = sig_h
-                        Sd = Sd_h
                 cm = 1.0 / (beta * h * h)
                 cc = gamma / (beta * h)
                 if h == dt and t == step * dt:  # a whole analysis step: on the record's grid
@@ -1176,11 +1127,16 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     # G = B^T K_hat^-1 B on the gaps in contact.  A level factor
                     # (or a wider band) keeps Woodbury columns K_hat^-1 b_g, cached
                     # per factor, that serve every step of that size; a located
-                    # step's one-off factor takes G from the semiseparable inverse
-                    # in O(n + m^2) instead of m new columns in O(n m).
-                    columns = lv >= 0 or not tri
-                    if not columns:
-                        _compliance_tridiagonal(m_act, act_list, gap_i, gap_j, sig, Sd, Gm, dofs, order, pos, span, Kd)
+                    # step's one-off factor, with several gaps closed, takes G from
+                    # the semiseparable inverse in O(n + m^2) instead of m new
+                    # columns in O(n m).
+                    columns = lv >= 0 or not tri or m_act < SEMISEPARABLE_GAPS
+                    if not columns:  # the scratch factor L_h
+                        if not inv_ok:
+                            _inverse_diagonals(L_h, p, sig_h, Sd_h)
+                            inv_ok = True
+                        _compliance_tridiagonal(m_act, act_list, gap_i, gap_j, sig_h, Sd_h, Gm, dofs, order, pos,
+                                                span, Kd)
                     elif lv >= 0:
                         if lv != Wc_lev:
                             for g in range(ngw):
@@ -1235,7 +1191,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                             for i in range(gap_lo[g], gap_hi[g]):
                                 Du[i] -= Fm[q] * Wc[g, i]
                     if not columns:
-                        _subtract_contact(Lf, p, m_act, act_list, gap_i, gap_j, gap_lo, gap_hi, Fm, sig, Sd, xs, Du)
+                        _subtract_contact(L_h, p, m_act, act_list, gap_i, gap_j, gap_lo, gap_hi, Fm, xs, Du)
                     if it > stats[S_MAX_ITER]:
                         stats[S_MAX_ITER] = it
                 if not converged:

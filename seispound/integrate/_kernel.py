@@ -232,18 +232,6 @@ def _compliance_tridiagonal(m, act_list, gap_i, gap_j, sig, Sd, Gm, dofs, order,
     O(n m)).  Shapes: Gm (>= m, >= m); dofs, order, pos, span (>= 2m,);
     Kd (>= 2m, >= 2m) scratch.
     """
-    if m == 1:  # one gap closed: G = Sd_i + Sd_j - 2 (K_hat^-1)_ij
-        g = act_list[0]
-        a = min(gap_i[g], gap_j[g])
-        b = max(gap_i[g], gap_j[g])
-        prod = 1.0
-        for c in range(a + 1, b + 1):
-            prod *= sig[c]
-            if abs(prod) < INVERSE_FLOOR:
-                prod = 0.0
-                break
-        Gm[0, 0] = Sd[a] + Sd[b] - 2.0 * Sd[b] * prod
-        return
     k = 2 * m
     for q in range(m):
         g = act_list[q]

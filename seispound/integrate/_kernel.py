@@ -318,22 +318,18 @@ SEMISEPARABLE_GAPS = 3
 
 @njit(cache=True)
 def _subtract_contact(L, p, m, act_list, gap_i, gap_j, gap_lo, gap_hi, Fm, xs, Du):
-    """Du -= K_hat^-1 B F: the contact forces' share of the step, one sparse solve.
+    """Du -= K_hat^-1 B F: the contact forces' share of the step, one solve.
 
-    Tridiagonal (L D L^T) or diagonal K_hat (p <= 1).  The right-hand side is
-    nonzero at the 2m gap DOFs only, so the solve runs on the blocks the closed
-    gaps link, and its forward sweep starts at the lowest gap DOF (the rows
-    below it stay zero).  xs (n,) scratch.
+    The right-hand side is nonzero at the 2m gap DOFs only, so the solve runs
+    on the blocks the closed gaps link (``_solve_range``).  xs (n,) scratch.
     """
     lo = L.shape[0]
     hi = 0
-    first = L.shape[0]
     nonzero = False
     for q in range(m):
         g = act_list[q]
         lo = min(lo, gap_lo[g])
         hi = max(hi, gap_hi[g])
-        first = min(first, gap_i[g], gap_j[g])
         nonzero = nonzero or Fm[q] != 0.0
     if not nonzero:
         return
@@ -343,19 +339,9 @@ def _subtract_contact(L, p, m, act_list, gap_i, gap_j, gap_lo, gap_hi, Fm, xs, D
         g = act_list[q]
         xs[gap_i[g]] += Fm[q]
         xs[gap_j[g]] -= Fm[q]
-    if p == 0:
-        for i in range(lo, hi):
-            Du[i] -= xs[i] * L[i, 1] * L[i, 1]
-        return
-    x = xs[first]  # L D L^T (``_factor``)
-    for i in range(first + 1, hi):
-        x = xs[i] - L[i, 1] * x
-        xs[i] = x
-    x = xs[hi - 1] * L[hi - 1, 2]
-    Du[hi - 1] -= x
-    for i in range(hi - 2, lo - 1, -1):
-        x = xs[i] * L[i, 2] - L[i + 1, 1] * x
-        Du[i] -= x
+    _solve_range(L, p, xs, xs, lo, hi)  # in place: b[i] is read before x[i] is written
+    for i in range(lo, hi):
+        Du[i] -= xs[i]
 
 
 @njit(cache=True)
@@ -838,10 +824,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     Av = np.empty(n)
     Vv = np.empty(n)
     ngw = max(ng, 1)
-    # K_hat^-1 among the gap DOFs: semiseparable ratios per factor (tridiagonal
-    # and diagonal K_hat) or, for a wider band, columns K_hat^-1 b_g per step
-    # (the level factors use cached Woodbury columns instead, so only the
-    # scratch factor's are kept, computed when a step with a gap closed needs them)
+    # semiseparable ratios and diagonal of the scratch factor's K_hat^-1 (tridiagonal
+    # or diagonal K_hat only), computed when a located step with several gaps
+    # closed needs them; every other step uses the cached Woodbury columns below
     tri = p <= 1
     sig_h = np.empty(n if tri else 1)
     Sd_h = np.empty(n if tri else 1)

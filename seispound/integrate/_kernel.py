@@ -24,8 +24,11 @@ G and K_hat^-1 B F come from Woodbury columns K_hat^-1 b_g cached per factor
 of the dt/2^k grid (they serve every substep of that size), and, for a
 located step's one-off size, from the semiseparable inverse of the
 tridiagonal K_hat (``_inverse_diagonals``): O(n + m^2) instead of m new
-columns in O(n m).  A step costs one banded solve, O(n * bandwidth), plus
-O(m^3) per iteration.
+columns in O(n m).  K_hat being block diagonal over the buildings, G is block
+diagonal over groups of closed gaps that share no building
+(``_group_contacts``, regrouped at events); each group gets its own Newton
+iteration.  A step costs one banded solve, O(n * bandwidth), plus
+O(sum m_c^3) per iteration over the groups' sizes m_c.
 
 Contact events: the set of gaps in contact is frozen during a step.  After a
 step, a gap that opened or closed inside it (sign change of the penetration,
@@ -33,7 +36,8 @@ or a grazing excursion either way seen by the cubic Hermite interpolant of
 delta: a touch of an open gap, a brief separation of a closed one) makes
 the step be redone up to the event time, found as the first root of that
 interpolant; repeated until the step ends on the event within 1e-7 of the
-step's travel.  While any gap is closed the step is cut into substeps of
+step's travel.  Gaps whose events fall on the same instant (identical floors,
+copies of a pair) switch together, in one attempt.  While any gap is closed the step is cut into substeps of
 1/n_sub of the impact duration estimated at onset (``contact_duration``), so
 the contact is resolved independently of the analysis step.  At each event
 the acceleration is recomputed from equilibrium, because the contact force may
@@ -755,6 +759,42 @@ def _newton(m_act, act_list, Gm, dl, rl, Fm, cc, gap_law, gap_par, zeta, scale, 
 
 
 @njit(cache=True)
+def _group_contacts(m, act_list, gap_lo, gap_hi, comp_off):
+    """Order the m closed gaps into groups that share no building; return the number of groups.
+
+    Gaps whose blocks (DOF ranges gap_lo..gap_hi-1: the buildings a gap links
+    and any between them) do not overlap are uncoupled: G = B^T K_hat^-1 B is
+    block diagonal over such groups, because K_hat is block diagonal over the
+    buildings.  act_list[:m] is sorted by gap_lo (insertion sort: it is
+    nearly sorted from the previous event) and group c is
+    act_list[comp_off[c]:comp_off[c + 1]].
+    """
+    comp_off[0] = 0
+    if m <= 1:
+        comp_off[1] = m
+        return m
+    for s in range(1, m):
+        g = act_list[s]
+        t = s - 1
+        while t >= 0 and (gap_lo[act_list[t]] > gap_lo[g]
+                          or (gap_lo[act_list[t]] == gap_lo[g] and act_list[t] > g)):
+            act_list[t + 1] = act_list[t]
+            t -= 1
+        act_list[t + 1] = g
+    n_comp = 0
+    reach = gap_hi[act_list[0]]
+    for q in range(1, m):
+        g = act_list[q]
+        if gap_lo[g] >= reach:
+            n_comp += 1
+            comp_off[n_comp] = q
+        reach = max(reach, gap_hi[g])
+    n_comp += 1
+    comp_off[n_comp] = m
+    return n_comp
+
+
+@njit(cache=True)
 def _begin_impact(g, t, dg, rg, code, par, n_sub, active, zeta, hsub, age, cur_imp,
                   n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_fmax, imp_dur, imp_vout):
     """Open impact number ``n_imp`` at gap g: fix its damping from the approach
@@ -856,6 +896,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     rl = np.empty(ngw)
     resv = np.empty(ngw)
     act_list = np.empty(ngw, np.int64)
+    comp_off = np.empty(ngw + 1, np.int64)  # the closed gaps' independent groups (``_group_contacts``)
+    toggles = np.empty(ngw, np.int64)  # gaps switched together at one instant
+    land_too = np.empty(ngw, np.int64)
     active = np.zeros(ng, np.bool_)
     zeta = np.zeros(ng)
     hsub = np.zeros(ng)
@@ -966,6 +1009,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
         if active[g]:
             act_list[m_act] = g
             m_act += 1
+    # the closed gaps in groups that share no building (updated at every event)
+    n_comp = _group_contacts(m_act, act_list, gap_lo, gap_hi, comp_off)
 
     hmin = 1e-9 * dt  # events closer than this to the step start switch in place
     step = 0
@@ -1047,6 +1092,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 target = g_hint
             landed = False
             toggle_now = -1
+            n_tog = 0
+            n_land = 0
             located = False
             for attempt in range(200):
                 # ---- factor K_hat(h): cached per dt/2^k level, scratch otherwise
@@ -1108,8 +1155,14 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         if not inv_ok:
                             _inverse_diagonals(L_h, p, sig_h, Sd_h)
                             inv_ok = True
-                        _compliance_tridiagonal(m_act, act_list, gap_i, gap_j, sig_h, Sd_h, Gm, dofs, order, pos,
-                                                span, Kd)
+                        if n_comp == 1:
+                            _compliance_tridiagonal(m_act, act_list, gap_i, gap_j, sig_h, Sd_h, Gm, dofs, order, pos,
+                                                    span, Kd)
+                        for c in range(n_comp if n_comp > 1 else 0):  # G's diagonal blocks, one group at a time
+                            o = comp_off[c]
+                            e = comp_off[c + 1]
+                            _compliance_tridiagonal(e - o, act_list[o:e], gap_i, gap_j, sig_h, Sd_h, Gm[o:e, o:e],
+                                                    dofs, order, pos, span, Kd)
                     elif lv >= 0:
                         if lv != Wc_lev:
                             for g in range(ngw):
@@ -1150,12 +1203,31 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         Fm[q] = F[g]  # start from the force at the start of the step,
                         if age[g] >= 1:  # extrapolated along the last accepted substep
                             Fm[q] += (F[g] - F_old[g]) * (h / h_old[g])
-                        if columns:
-                            for r in range(m_act):
-                                gr = act_list[r]
-                                Gm[q, r] = Wc[gr, ii] - Wc[gr, jj]
-                    converged, it = _newton(m_act, act_list, Gm, dl, rl, Fm, cc, gap_law, gap_par, zeta, scale,
-                                            rtol, max_iter, resv, kt, Sm, ym)
+                    if columns:  # G is block diagonal over the groups: fill the blocks only
+                        for c in range(n_comp):
+                            for q in range(comp_off[c], comp_off[c + 1]):
+                                g = act_list[q]
+                                ii = gap_i[g]
+                                jj = gap_j[g]
+                                for r in range(comp_off[c], comp_off[c + 1]):
+                                    gr = act_list[r]
+                                    Gm[q, r] = Wc[gr, ii] - Wc[gr, jj]
+                    # one Newton iteration per independent group: O(sum m_c^3), not O(m^3)
+                    if n_comp == 1:  # (the common case, without sliced views)
+                        converged, it = _newton(m_act, act_list, Gm, dl, rl, Fm, cc, gap_law, gap_par, zeta, scale,
+                                                rtol, max_iter, resv, kt, Sm, ym)
+                    else:
+                        converged = True
+                        it = 0
+                    for c in range(n_comp if n_comp > 1 else 0):
+                        o = comp_off[c]
+                        e = comp_off[c + 1]
+                        ok_c, it_c = _newton(e - o, act_list[o:e], Gm[o:e, o:e], dl[o:e], rl[o:e], Fm[o:e], cc,
+                                             gap_law, gap_par, zeta, scale, rtol, max_iter, resv, kt, Sm, ym)
+                        converged = converged and ok_c
+                        it = max(it, it_c)
+                        if not ok_c:
+                            break
                     stats[S_ITERATIONS] += it
                     for q in range(m_act):
                         g = act_list[q]
@@ -1184,6 +1256,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     landed = abs(dtg) <= LAND_TOL * max(abs(rtg), abs(r0[target])) * h + 1e-15
                 theta = 2.0
                 g_ev = -1
+                n_land = 0
                 for g in range(ng):
                     ii = gap_i[g]
                     jj = gap_j[g]
@@ -1196,6 +1269,12 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     tol = LAND_TOL * max(abs(r0[g]), abs(r1)) * h + 1e-15
                     # an open gap may touch, a closed one separate, even within the step
                     th = _event_in_step(d0[g], r0[g], d1, r1, h, not active[g], tol)
+                    if landed and ((d1 >= -tol and r1 > 0.0 and not active[g])
+                                   or (d1 <= tol and r1 < 0.0 and active[g])):
+                        # at its own crossing as well, within the landing tolerance (identical
+                        # floors): it switches with the target, not one attempt later
+                        land_too[n_land] = g
+                        n_land += 1
                     if th < theta:
                         theta = th
                         g_ev = g
@@ -1208,6 +1287,17 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     break
                 stats[S_REJECTED] += 1
                 if theta * h < hmin:
+                    # every gap whose event is at the current time switches now, together
+                    # (identical floors touch at once: one attempt, not one per gap)
+                    # (a second pass over the gaps' end states: rare, so not kept in the first)
+                    n_tog = 0
+                    for g in range(ng):
+                        if gap_law[g] == NONE or (landed and g == target):
+                            continue
+                        tol = LAND_TOL * max(abs(r0[g]), abs(r_end[g])) * h + 1e-15
+                        if _event_in_step(d0[g], r0[g], d_end[g], r_end[g], h, not active[g], tol) * h < hmin:
+                            toggles[n_tog] = g
+                            n_tog += 1
                     toggle_now = g_ev
                     located = True
                     break
@@ -1215,11 +1305,10 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 target = g_ev
             if not located:
                 return NEWTON_FAILED, n_imp, t
-            g = -1
             if toggle_now >= 0:
-                # the event is at the current time: switch status without moving
-                g = toggle_now
+                pass  # the events are at the current time: switch status without moving
             else:
+                n_tog = 0
                 # ---- accept the step: energy, state, peaks ---------------------
                 stats[S_STEPS] += 1
                 for i in range(n):
@@ -1261,9 +1350,14 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 for r in range(nm):
                     g_t[r] = g_1[r]
                 if landed:
-                    g = target
-            if g >= 0:
+                    toggles[0] = target
+                    n_tog = 1
+                    for k_t in range(n_land):  # gaps at their own crossing too (screen)
+                        toggles[n_tog] = land_too[k_t]
+                        n_tog += 1
+            for k_t in range(n_tog):
                 # ---- switch gap g: onset or end of an impact --------------------
+                g = toggles[k_t]
                 rg = v[gap_i[g]] - v[gap_j[g]]
                 if not active[g]:
                     if n_imp >= cap:
@@ -1289,6 +1383,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     imp_vout[q] = -rg
                     cur_imp[g] = -1
                     F[g] = 0.0
+            if n_tog > 0:
+                n_comp = _group_contacts(m_act, act_list, gap_lo, gap_hi, comp_off)
                 # the contact force may jump at an event (LVe's dashpot): restore
                 # equilibrium; the jump happens at fixed u and does no work
                 _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd)

@@ -1,7 +1,8 @@
 """How many full-row Newmark steps a run needs, and how many multi-rate stepping could save.
 
 ``python -m benchmarks.attempts`` runs rows of the scaling benchmark
-(``benchmarks.scaling``: 20 s of El Centro 180, dt = 0.005 s, Hd, 2 cm gaps)
+(``benchmarks.scaling``: 20 s of El Centro 180, dt = 0.005 s, Hd, 2 cm gaps;
+4 x 10 to 4 x 100 storeys and 4 and 16 pairs colliding at different times)
 and the canonical row of three through a *counting copy* of the kernel: the
 source of ``seispound/integrate/_kernel.py`` with counters inserted at fixed
 anchors (each must occur exactly once, so a changed kernel fails loudly here
@@ -21,7 +22,7 @@ For each row and number of contact substeps per impact it prints
   step's attempts; the others take one step of dt.  Rollbacks and the
   interpolation at gaps between a stepping and a waiting building are free
   here, so a real multi-rate kernel can only do worse;
-* the mean number of gaps closed in the attempts with contact, the floors hit,
+* the mean number of gaps closed in the attempts with contact, the floor levels hit,
   and the error of the largest peak pounding force against 128 substeps.
 
 A cost per DOF per analysis step within 3 times a bare Newmark loop needs
@@ -140,7 +141,7 @@ def _cases():
     from seispound.simulation import prepare_ground_motion
     from seispound.structure import assemble
 
-    from .scaling import _ground, _row
+    from .scaling import _ground, _row, pairs
 
     m = load_model(CANONICAL)
     ag3, _ = prepare_ground_motion(m)
@@ -148,6 +149,8 @@ def _cases():
     ag, nsteps = _ground(20.0, 0.005)
     for nb, ns in ((2, 10), (4, 10), (4, 25), (4, 50), (4, 100)):
         yield f"{nb} x {ns}", _row(nb, ns), ag, 0.005, nsteps
+    for k in (4, 16):  # pairs that collide at different times (benchmarks.scaling)
+        yield f"{k} pairs", pairs(k, identical=False), ag, 0.005, nsteps
 
 
 def main(argv=None) -> int:

@@ -5,6 +5,11 @@ bare linear Newmark loop of the same size, medians of 5 in this process, for
 
 * rows of 1-4 buildings of 10-100 storeys (10 to 400 DOFs), 20 s of El Centro
   180 at dt = 0.005 s, law Hd, gaps 2 cm;
+* rows of k = 1-16 pairs of buildings (10 storeys, T1 = 1.0 and 0.8 s, a
+  2 cm gap inside each pair, none between pairs; 20 to 320 DOFs), once with
+  identical pairs (every pair collides at the same instants: the collisions
+  grow with the row) and once with each pair's periods scaled by 1 + 0.05 p
+  (the pairs collide at different times);
 * the canonical row of three (26 DOFs) under 10, 20, 40 and 80 s of motion
   (El Centro 180 repeated end to end).
 
@@ -46,6 +51,18 @@ def _row(n_buildings: int, storeys: int):
         bs.append(Building(f"B{i + 1}", [1e5] * storeys, [k] * storeys, [3.0] * storeys,
                            RayleighDamping(0.05, (1, 2))))
     gaps = [Gap((a.name, b.name), 0.02) for a, b in zip(bs, bs[1:])]
+    return assemble(bs, gaps, make_law("Hd", stiffness=2.75e9, restitution=0.65))
+
+
+def pairs(k: int, identical: bool):
+    """k pairs A_p | B_p of 10 storeys (T1 = 1.0 and 0.8 s, times 1 + 0.05 p unless identical), gaps 2 cm."""
+    bs, gaps = [], []
+    for p in range(k):
+        f = 1.0 if identical else 1.0 + 0.05 * p
+        a, b = (Building(f"{x}{p}", [1e5] * 10, [uniform_storey_stiffness(1e5, 10, T * f)] * 10, [3.0] * 10,
+                         RayleighDamping(0.05, (1, 2))) for x, T in (("A", 1.0), ("B", 0.8)))
+        bs += [a, b]
+        gaps.append(Gap((a.name, b.name), 0.02))
     return assemble(bs, gaps, make_law("Hd", stiffness=2.75e9, restitution=0.65))
 
 
@@ -95,6 +112,17 @@ def main(argv=None) -> int:
               f"{r['attempts']:8d} {r['run_s'] * 1e3:8.2f} {r['ns_per_dof_step']:11.1f} "
               f"{r['ns_per_dof_step_taken']:9.1f} {r['ns_per_dof_attempt']:11.1f} "
               f"{r['bare_ns_per_dof_step']:8.1f} {r['ratio']:6.2f}", flush=True)
+    for identical in (True, False):
+        print(f"\ncost against the number of buildings: rows of k pairs, {'identical' if identical else 'different'}"
+              f" (20 s of El Centro 180, dt 0.005 s, Hd, gaps 2 cm)")
+        print(f"{'pairs':>14} {'DOFs':>5} {'impacts':>7} {'steps':>7} {'free':>6} {'attempts':>8} {'run ms':>8} "
+              f"{'ns/DOF-step':>11} {'per taken':>9} {'per attempt':>11} {'bare ns':>8} {'x bare':>6}")
+        for k in (1, 2, 4, 8, 16):
+            r = measure(pairs(k, identical), ag, dt, nsteps, args.repeat)
+            print(f"{k:>14} {r['n_dof']:5d} {r['impacts']:7d} {r['steps_taken']:7d} {r['free_flight']:6d} "
+                  f"{r['attempts']:8d} {r['run_s'] * 1e3:8.2f} {r['ns_per_dof_step']:11.1f} "
+                  f"{r['ns_per_dof_step_taken']:9.1f} {r['ns_per_dof_attempt']:11.1f} "
+                  f"{r['bare_ns_per_dof_step']:8.1f} {r['ratio']:6.2f}", flush=True)
     print("\ncost against the record length (canonical row of three, 26 DOFs)")
     print(f"{'seconds':>8} {'steps':>6} {'impacts':>7} {'run ms':>8} {'ns/DOF-step':>11} {'per taken':>9} "
           f"{'x bare':>6}")

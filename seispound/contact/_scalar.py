@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 # Integer law codes: the kernel dispatches on these so that numba's on-disk

@@ -31,7 +31,7 @@ from seispound.errors import InputError
 
 __all__ = ["G_STANDARD", "Record", "read_record", "ground_acceleration", "UNIT_FACTORS"]
 
-from seispound.motion.units import G_STANDARD, UNIT_FACTORS, _UNIT_ALIASES, _canonical_units  # noqa: F401
+from seispound.motion.units import G_STANDARD, UNIT_FACTORS, _canonical_units
 
 # Largest denominator accepted when expressing a coarsening ratio as up/down
 # for polyphase resampling; larger ones mean an unusual analysis step.

@@ -6,7 +6,6 @@ root is checked against a 60-digit ``decimal`` solution.
 
 from __future__ import annotations
 
-import math
 from decimal import Decimal, localcontext
 
 import numpy as np

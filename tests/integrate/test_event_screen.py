@@ -9,7 +9,7 @@ first crossing.  Checked against the cubic sampled densely.
 import numpy as np
 import pytest
 
-from seispound.integrate._kernel import LAND_TOL, _event_in_step, _hermite
+from seispound.integrate._kernel import LAND_TOL, _event_in_step
 
 
 def cubic(d0, r0, d1, r1, h, s):

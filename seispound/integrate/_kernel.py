@@ -226,19 +226,20 @@ INVERSE_FLOOR = 1e-200
 
 
 @njit(cache=True)
-def _compliance_tridiagonal(m, act_list, gap_i, gap_j, sig, Sd, Gm, dofs, order, pos, span, Kd):
-    """G = B^T K_hat^-1 B for the m gaps in contact, from the semiseparable inverse (``_inverse_diagonals``).
+def _compliance_tridiagonal(lo, hi, act_list, gap_i, gap_j, sig, Sd, Gm, dofs, order, pos, span, Kd):
+    """Gm[lo:hi, lo:hi] = B^T K_hat^-1 B for the gaps act_list[lo:hi] in contact, from the semiseparable inverse.
 
     The 2m gap DOFs are sorted; the product of sig between each sorted pair of
     neighbours costs one pass over the floors they span, and every entry of
     K_hat^-1 among them follows as a running product: O(n + m^2) per call,
     independent of how many gaps are closed (columns K_hat^-1 b_g would cost
-    O(n m)).  Shapes: Gm (>= m, >= m); dofs, order, pos, span (>= 2m,);
-    Kd (>= 2m, >= 2m) scratch.
+    O(n m)).  With m = hi - lo: dofs, order, pos, span (>= 2m,) and
+    Kd (>= 2m, >= 2m) are scratch; sig and Sd from ``_inverse_diagonals``.
     """
+    m = hi - lo
     k = 2 * m
     for q in range(m):
-        g = act_list[q]
+        g = act_list[lo + q]
         dofs[2 * q] = gap_i[g]
         dofs[2 * q + 1] = gap_j[g]
     for s in range(k):  # insertion sort: k is small
@@ -277,8 +278,8 @@ def _compliance_tridiagonal(m, act_list, gap_i, gap_j, sig, Sd, Gm, dofs, order,
         for r in range(q, m):
             c = pos[2 * r]
             d = pos[2 * r + 1]
-            Gm[q, r] = Kd[a, c] - Kd[a, d] - Kd[b, c] + Kd[b, d]
-            Gm[r, q] = Gm[q, r]
+            Gm[lo + q, lo + r] = Kd[a, c] - Kd[a, d] - Kd[b, c] + Kd[b, d]
+            Gm[lo + r, lo + q] = Gm[lo + q, lo + r]
 
 
 @njit(cache=True)
@@ -719,23 +720,24 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
 
 
 @njit(cache=True)
-def _newton(m_act, act_list, Gm, dl, rl, Fm, cc, gap_law, gap_par, zeta, scale, rtol, max_iter,
+def _newton(lo, hi, act_list, Gm, dl, rl, Fm, cc, gap_law, gap_par, zeta, scale, rtol, max_iter,
             resv, kt, Sm, ym):
-    """Newton-Raphson on the forces Fm of the m_act gaps in contact (module docstring).
+    """Newton-Raphson on the forces Fm[lo:hi] of one group of gaps in contact (module docstring).
 
     The penetration and rate of gap q are dl[q] - (G F)_q and rl[q] - cc (G F)_q
-    (G = B^T K_hat^-1 B, shape (m, m)); the residual F - F_law is tested
-    against rtol times the largest of ``scale`` and the forces.  Returns
-    (converged, iterations beyond the first evaluation).
+    (G = B^T K_hat^-1 B restricted to the group, Gm[lo:hi, lo:hi]); the
+    residual F - F_law is tested against rtol times the largest of ``scale``
+    and the forces.  Returns (converged, iterations beyond the first evaluation).
     """
+    m = hi - lo
     it = 0
     while True:
         rn = 0.0
         sc = scale
-        for q in range(m_act):
+        for q in range(lo, hi):
             g = act_list[q]
             s1 = 0.0
-            for r in range(m_act):
+            for r in range(lo, hi):
                 s1 += Gm[q, r] * Fm[r]
             Fg, dFd, dFv = contact_force(gap_law[g], gap_par[g], dl[q] - s1, rl[q] - cc * s1, zeta[g])
             resv[q] = Fm[q] - Fg
@@ -747,15 +749,15 @@ def _newton(m_act, act_list, Gm, dl, rl, Fm, cc, gap_law, gap_par, zeta, scale, 
         if it >= max_iter:
             return False, it
         it += 1
-        # Newton: (I + diag(kt) G) dF = -res
-        for q in range(m_act):
-            for r in range(m_act):
-                Sm[q, r] = kt[q] * Gm[q, r]
-            Sm[q, q] += 1.0
-            ym[q] = -resv[q]
-        _dense_solve(m_act, Sm, ym)
-        for q in range(m_act):
-            Fm[q] += ym[q]
+        # Newton: (I + diag(kt) G) dF = -res, on the group (local indices in Sm, ym)
+        for q in range(lo, hi):
+            for r in range(lo, hi):
+                Sm[q - lo, r - lo] = kt[q] * Gm[q, r]
+            Sm[q - lo, q - lo] += 1.0
+            ym[q - lo] = -resv[q]
+        _dense_solve(m, Sm, ym)
+        for q in range(lo, hi):
+            Fm[q] += ym[q - lo]
 
 
 @njit(cache=True)
@@ -1155,14 +1157,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         if not inv_ok:
                             _inverse_diagonals(L_h, p, sig_h, Sd_h)
                             inv_ok = True
-                        if n_comp == 1:
-                            _compliance_tridiagonal(m_act, act_list, gap_i, gap_j, sig_h, Sd_h, Gm, dofs, order, pos,
-                                                    span, Kd)
-                        for c in range(n_comp if n_comp > 1 else 0):  # G's diagonal blocks, one group at a time
-                            o = comp_off[c]
-                            e = comp_off[c + 1]
-                            _compliance_tridiagonal(e - o, act_list[o:e], gap_i, gap_j, sig_h, Sd_h, Gm[o:e, o:e],
-                                                    dofs, order, pos, span, Kd)
+                        for c in range(n_comp):  # G's diagonal blocks, one group at a time
+                            _compliance_tridiagonal(comp_off[c], comp_off[c + 1], act_list, gap_i, gap_j, sig_h, Sd_h,
+                                                    Gm, dofs, order, pos, span, Kd)
                     elif lv >= 0:
                         if lv != Wc_lev:
                             for g in range(ngw):
@@ -1213,16 +1210,10 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                                     gr = act_list[r]
                                     Gm[q, r] = Wc[gr, ii] - Wc[gr, jj]
                     # one Newton iteration per independent group: O(sum m_c^3), not O(m^3)
-                    if n_comp == 1:  # (the common case, without sliced views)
-                        converged, it = _newton(m_act, act_list, Gm, dl, rl, Fm, cc, gap_law, gap_par, zeta, scale,
-                                                rtol, max_iter, resv, kt, Sm, ym)
-                    else:
-                        converged = True
-                        it = 0
-                    for c in range(n_comp if n_comp > 1 else 0):
-                        o = comp_off[c]
-                        e = comp_off[c + 1]
-                        ok_c, it_c = _newton(e - o, act_list[o:e], Gm[o:e, o:e], dl[o:e], rl[o:e], Fm[o:e], cc,
+                    converged = True
+                    it = 0
+                    for c in range(n_comp):
+                        ok_c, it_c = _newton(comp_off[c], comp_off[c + 1], act_list, Gm, dl, rl, Fm, cc,
                                              gap_law, gap_par, zeta, scale, rtol, max_iter, resv, kt, Sm, ym)
                         converged = converged and ok_c
                         it = max(it, it_c)
@@ -1305,10 +1296,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 target = g_ev
             if not located:
                 return NEWTON_FAILED, n_imp, t
-            if toggle_now >= 0:
-                pass  # the events are at the current time: switch status without moving
-            else:
-                n_tog = 0
+            # (toggle_now >= 0: the events are at the current time, switched below without moving)
+            if toggle_now < 0:
                 # ---- accept the step: energy, state, peaks ---------------------
                 stats[S_STEPS] += 1
                 for i in range(n):

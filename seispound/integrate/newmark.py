@@ -80,6 +80,20 @@ class RawResult:
     stats: dict = field(default_factory=dict)
 
 
+def gap_blocks(system, gap_i, gap_j) -> tuple[np.ndarray, np.ndarray]:
+    """DOF range [gap_lo, gap_hi) of the blocks (buildings) each gap links, and any between them.
+
+    A gap's Woodbury column K_hat^-1 b_g is nonzero only there, and gaps whose
+    ranges do not overlap are uncoupled (the kernel's contact groups).
+    Shapes: gap_i, gap_j (ng,) DOF indices; returns two (ng,) int64 arrays.
+    """
+    starts = dof_blocks(system.n_dof, system.el_i, system.el_j)
+    blk_of = np.searchsorted(starts, np.arange(system.n_dof), side="right") - 1
+    gap_lo = np.minimum(starts[blk_of[gap_i]], starts[blk_of[gap_j]]).astype(np.int64)
+    gap_hi = np.maximum(starts[blk_of[gap_i] + 1], starts[blk_of[gap_j] + 1]).astype(np.int64)
+    return gap_lo, gap_hi
+
+
 _BASES: dict = {}
 
 
@@ -143,11 +157,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     gap_i, gap_j = system.gap_i[live], system.gap_j[live]
     gap_size, gap_law, gap_par = system.gap_size[live], system.gap_law[live], system.gap_par[live]
     ng = live.size
-    # the DOF range of the blocks each gap links: its Woodbury column lives there
-    starts = dof_blocks(n, system.el_i, system.el_j)
-    blk_of = np.searchsorted(starts, np.arange(n), side="right") - 1
-    gap_lo = np.minimum(starts[blk_of[gap_i]], starts[blk_of[gap_j]]).astype(np.int64)
-    gap_hi = np.maximum(starts[blk_of[gap_i] + 1], starts[blk_of[gap_j] + 1]).astype(np.int64)
+    gap_lo, gap_hi = gap_blocks(system, gap_i, gap_j)
     # room for every impact up front: a catalogue overflow reruns the whole integration
     cap = impact_capacity or max(256, nsteps // 4 + 16 * ng)
     nt = nsteps + 1 if store_history else 1

@@ -53,6 +53,27 @@ first one in which a gap may close, and hands that step to the physical path,
 starting from the block's own root estimate.  Blocks start at 16 steps after an impact and double up to
 ``nblk``; the no-pounding twin runs in free flight throughout.
 
+Multi-rate stepping: while some gap is closed, only the buildings its
+contact group links (the *stepping* buildings; ``gap_lo``..``gap_hi`` of every
+closed gap) take the contact substeps.  Every other building *waits*: at the
+start of the analysis step it takes the whole step in one Newmark step of dt
+(``_waiting_trial``, the level-0 factor restricted to its rows), committed
+when the stepping buildings reach the step's end (``_waiting_commit``).  A
+gap between two waiting buildings is screened over that step first (an event
+makes its buildings step from the start); a gap between a waiting and a
+stepping building is screened at every substep with the waiting side on its
+step's own trajectory (``_waiting_state``: exact for average acceleration).
+When such a gap may close inside a substep, the substep is redone: the waiting
+building first takes a catch-up step from the analysis step's start to the
+substep's start (its own factor), then steps with the others (a *join*), so
+the event is located with both sides integrated.  Each loop over DOFs,
+elements or factor rows runs over the stepping buildings' runs only
+(``_runs``), and only the gaps that touch them are screened per substep, so a
+row whose pairs pound at different times costs what its pairs cost one by one
+plus the substeps that pairs in contact at the same time share.  Waiting
+buildings differ from stepping ones by the time discretisation of free flight,
+O(dt^2), as in the free-flight blocks.
+
 Energy (relative frame; Uang & Bertero 1990) is accumulated with the
 trapezoidal work 0.5 (f0 + f1) . (u1 - u0), which for the average-acceleration
 method balances exactly: input = kinetic + strain + damping + contact.

@@ -882,6 +882,30 @@ def _waiting_state(i, s, dt, u, v, u_w1, v_w1):
 
 
 @njit(cache=True)
+def _linear_trial(lo, hi, elo, ehi, h, Lf, p, beta, gamma, mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1,
+                  g1, u, v, a, Av, Vv, fs, fd, R0, Du):
+    """Newmark predictor and linear increment of a step of size h [s] on DOFs lo..hi-1 (whole blocks).
+
+    Newmark (Chopra Table 5.7.2, total form): a1 = cm Du + Av, v1 = cc Du + Vv with
+    Av = -v / (beta h) - (1 / (2 beta) - 1) a and Vv = (1 - gamma / beta) v + h (1 - gamma / (2 beta)) a;
+    one element loop gives K u and C Vv, hence the residual R0 at Du = 0, and
+    Du = K_hat^-1 R0 is the step with every contact force zero.  Lf: K_hat(h)
+    factored on these rows; g1 (nm,): ground acceleration at the step end.
+    Returns sum (K u)_i u_i over the rows [J x 2] (twice the strain energy).
+    """
+    for i in range(lo, hi):
+        Av[i] = -v[i] / (beta * h) - (0.5 / beta - 1.0) * a[i]
+        Vv[i] = (1.0 - gamma / beta) * v[i] + h * (1.0 - 0.5 * gamma / beta) * a[i]
+    _internal_range(mass, dof_a0, el_i, el_j, el_k, el_a1, u, Vv, fs, fd, lo, hi, elo, ehi)
+    es = 0.0
+    for i in range(lo, hi):
+        R0[i] = -mass[i] * (g1[dof_motion[i]] + Av[i]) - fd[i] - fs[i]
+        es += fs[i] * u[i]
+    _solve_range(Lf, p, R0, Du, lo, hi)
+    return es
+
+
+@njit(cache=True)
 def _waiting_trial(lo, hi, elo, ehi, h, Lf, p, beta, gamma, mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1,
                    g1, u, v, a, Av, Vv, fs, fd, R0, du_w, u_w1, v_w1, a_w1):
     """A linear Newmark step of size h [s] for the blocks on DOFs lo..hi-1, none of whose gaps is closed.
@@ -893,13 +917,8 @@ def _waiting_trial(lo, hi, elo, ehi, h, Lf, p, beta, gamma, mass, dof_a0, dof_mo
     """
     cm = 1.0 / (beta * h * h)
     cc = gamma / (beta * h)
-    for i in range(lo, hi):
-        Av[i] = -v[i] / (beta * h) - (0.5 / beta - 1.0) * a[i]
-        Vv[i] = (1.0 - gamma / beta) * v[i] + h * (1.0 - 0.5 * gamma / beta) * a[i]
-    _internal_range(mass, dof_a0, el_i, el_j, el_k, el_a1, u, Vv, fs, fd, lo, hi, elo, ehi)
-    for i in range(lo, hi):
-        R0[i] = -mass[i] * (g1[dof_motion[i]] + Av[i]) - fd[i] - fs[i]
-    _solve_range(Lf, p, R0, du_w, lo, hi)
+    _linear_trial(lo, hi, elo, ehi, h, Lf, p, beta, gamma, mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1,
+                  g1, u, v, a, Av, Vv, fs, fd, R0, du_w)
     for i in range(lo, hi):
         u_w1[i] = u[i] + du_w[i]
         v_w1[i] = Vv[i] + cc * du_w[i]
@@ -1130,6 +1149,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     scr = np.empty(ngw, np.int64)  # gaps screened at every step: those linking a stepping building
     n_scr = _screen_list(in_s, gb_lo, gb_hi, scr)
     waiting = False  # some buildings wait in this analysis step
+    wu0 = wv0 = wu1 = wv1 = xu = xv0 = xv1 = 0.0  # Hermite weights of the waiting step (screen)
     t_w0 = 0.0  # start of the waiting step, and the ground acceleration there
     g_w0 = np.empty(nm)
     g_w1 = np.empty(nm)
@@ -1413,21 +1433,25 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         g_1[r] = ag[r, step + 1]
                 else:
                     _ground_all(ag, t + h, dt, g_1)
-                # Newmark: a1 = cm Du + Av, v1 = cc Du + Vv (on the stepping buildings' runs)
+                # the step with every contact force frozen at zero, on the stepping buildings' runs
+                # (exact when no gap is closed)
                 es = 0.0
-                for rr in range(n_run):
-                    lo = r_lo[rr]
-                    hi = r_hi[rr]
-                    for i in range(lo, hi):
+                if n_run == 1 and r_hi[0] - r_lo[0] == n:
+                    # the whole row steps (single-rate, or nobody waits): the same loops over 0..n-1,
+                    # which LLVM optimises better than the range version (measured 11-13 % per attempt)
+                    for i in range(n):
                         Av[i] = -v[i] / (beta * h) - (0.5 / beta - 1.0) * a[i]
                         Vv[i] = (1.0 - gamma / beta) * v[i] + h * (1.0 - 0.5 * gamma / beta) * a[i]
-                    # one element loop per attempt: K u and C Vv give the residual at Du = 0
-                    _internal_range(mass, dof_a0, el_i, el_j, el_k, el_a1, u, Vv, fs, fd, lo, hi, r_elo[rr], r_ehi[rr])
-                    for i in range(lo, hi):
+                    _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, Vv, fs, fd)
+                    for i in range(n):
                         R0[i] = -mass[i] * (g_1[dof_motion[i]] + Av[i]) - fd[i] - fs[i]
                         es += fs[i] * u[i]
-                    # the step with every contact force frozen at zero: exact when no gap is closed
-                    _solve_range(Lf, p, R0, Du, lo, hi)
+                    _solve(Lf, p, R0, Du)
+                else:
+                    for rr in range(n_run):
+                        es += _linear_trial(r_lo[rr], r_hi[rr], r_elo[rr], r_ehi[rr], h, Lf, p, beta, gamma, mass,
+                                            dof_a0, dof_motion, el_i, el_j, el_k, el_a1, g_1, u, v, a, Av, Vv, fs, fd,
+                                            R0, Du)
                 if pending >= 0:  # (the whole row steps here: a waiting step settled it already)
                     out_e[pending, E_STRAIN] = 0.5 * es
                     out_e[pending, E_DAMPING] -= 0.5 * es - es0
@@ -1541,15 +1565,39 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 g_ev = -1
                 ev_waits = False
                 n_land = 0
-                s1 = (t + h - t_w0) / dt  # where the waiting buildings' step is at the end of this one
+                if waiting:
+                    # a waiting side moves along its own step's trajectory (``_waiting_state``),
+                    # here at the end of this substep: Hermite weights, inline (no call per gap)
+                    s1 = (t + h - t_w0) / dt
+                    s2 = s1 * s1
+                    s3 = s2 * s1
+                    wu0 = 2 * s3 - 3 * s2 + 1
+                    wv0 = (s3 - 2 * s2 + s1) * dt
+                    wu1 = -2 * s3 + 3 * s2
+                    wv1 = (s3 - s2) * dt
+                    xu = (6 * s2 - 6 * s1) / dt  # derivative: xd = xu (u0 - u1) + xv0 v0 + xv1 v1
+                    xv0 = 3 * s2 - 4 * s1 + 1
+                    xv1 = 3 * s2 - 2 * s1
                 for qq in range(n_scr):
                     g = scr[qq]
                     ii = gap_i[g]
                     jj = gap_j[g]
                     waits = waiting and not (in_s[dof_blk[ii]] and in_s[dof_blk[jj]])
-                    if waits:  # a waiting side moves along its own step's trajectory
-                        d1, r1 = _gap_state(g, s1, dt, in_s, dof_blk, gap_i, gap_j, gap_size, u, v, u_w1, v_w1, Du, Vv,
-                                            cc)
+                    if waits:
+                        if in_s[dof_blk[ii]]:
+                            xi = u[ii] + Du[ii]
+                            vi = Vv[ii] + cc * Du[ii]
+                        else:
+                            xi = wu0 * u[ii] + wv0 * v[ii] + wu1 * u_w1[ii] + wv1 * v_w1[ii]
+                            vi = xu * (u[ii] - u_w1[ii]) + xv0 * v[ii] + xv1 * v_w1[ii]
+                        if in_s[dof_blk[jj]]:
+                            xj = u[jj] + Du[jj]
+                            vj = Vv[jj] + cc * Du[jj]
+                        else:
+                            xj = wu0 * u[jj] + wv0 * v[jj] + wu1 * u_w1[jj] + wv1 * v_w1[jj]
+                            vj = xu * (u[jj] - u_w1[jj]) + xv0 * v[jj] + xv1 * v_w1[jj]
+                        d1 = xi - xj - gap_size[g]
+                        r1 = vi - vj
                     else:
                         d1 = u[ii] + Du[ii] - u[jj] - Du[jj] - gap_size[g]
                         r1 = Vv[ii] + cc * Du[ii] - Vv[jj] - cc * Du[jj]

@@ -124,7 +124,7 @@ def _cached_basis(system):
 
 def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newmark | None = None,
               impact_capacity: int | None = None, store_history: bool = True,
-              free_flight: bool = True, multirate: bool = True) -> RawResult:
+              free_flight: bool = True, multirate: bool = True, wait_share: float = K.WAIT_SHARE) -> RawResult:
     """Integrate a row of buildings under one (or one per DOF group) ground motion.
 
     Parameters
@@ -156,6 +156,11 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         gaps may close (default).  False: every building takes every substep.
         The two differ by the time-discretisation error of the waiting
         buildings' steps, the same as in free flight.
+    wait_share : float
+        Buildings wait only when together they hold at least this share of
+        the row's DOFs (default ``WAIT_SHARE`` = 0.5: below it, the
+        bookkeeping costs more than the substeps it saves); 0 lets any
+        building wait.
 
     Returns
     -------
@@ -163,6 +168,8 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     """
     nm = newmark or Newmark()
     nm.validate()
+    if not 0.0 <= wait_share <= 1.0:
+        raise ValueError(f"wait_share must lie in [0, 1], got {wait_share!r}")
     ag = np.atleast_2d(np.asarray(ground_acceleration, dtype=float))
     if ag.shape[1] != nsteps + 1:
         raise ValueError(f"ground acceleration has {ag.shape[1]} samples, expected nsteps + 1 = {nsteps + 1}")
@@ -190,11 +197,11 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     if basis is not None:
         md = (True, basis.start, basis.blocks_t, basis.block_offset, basis.phi_t, basis.phi_tm, basis.omega2, basis.c,
               basis.participation(system.mass, system.dof_motion, ag.shape[0]), FREE_FLIGHT_BLOCK,
-              bool(multirate), blk_dof, blk_el)
+              bool(multirate), float(wait_share), blk_dof, blk_el)
     else:
         e2 = np.zeros((0, 0))
         e1 = np.zeros(1, np.int64)
-        md = (False, e1, np.zeros(0), e1, e2, e2, np.zeros(0), np.zeros(0), e2, 1, bool(multirate), blk_dof, blk_el)
+        md = (False, e1, np.zeros(0), e1, e2, e2, np.zeros(0), np.zeros(0), e2, 1, bool(multirate), float(wait_share), blk_dof, blk_el)
     while True:
         # one buffer for every history: numpy backs allocations >= 4 MiB with
         # transparent huge pages, which saves ~1e3 page faults per run

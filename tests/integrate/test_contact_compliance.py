@@ -38,16 +38,9 @@ def _row(storeys, seed=0):
 
 def _dense_khat(s, h):
     """K_hat = (1/(beta h^2) + gamma/(beta h) a0) M + (1 + gamma/(beta h) a1) K, assembled densely."""
+    # the assembly's dense matrices; the kernel factors its own banded K_hat from the element arrays
     cm, cc = 1.0 / (BETA * h * h), GAMMA / (BETA * h)
-    A = np.diag(s.mass * (cm + cc * s.dof_a0))
-    for i, j, k, a1 in zip(s.el_i, s.el_j, s.el_k, s.el_a1):
-        kk = k * (1.0 + cc * a1)
-        A[i, i] += kk
-        if j >= 0:
-            A[j, j] += kk
-            A[i, j] -= kk
-            A[j, i] -= kk
-    return A
+    return s.stiffness_matrix() + cc * s.damping_matrix() + np.diag(cm * s.mass)
 
 
 def _factored(s, h):

@@ -94,6 +94,20 @@ def gap_blocks(system, gap_i, gap_j) -> tuple[np.ndarray, np.ndarray]:
     return gap_lo, gap_hi
 
 
+def _element_blocks(system) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """First DOF and first element of each block (building), two (nb + 1,) int64 arrays.
+
+    None, None when the elements of a block are not contiguous (the kernel
+    needs each block's elements as one range to step it alone).
+    """
+    starts = dof_blocks(system.n_dof, system.el_i, system.el_j)
+    blk = np.searchsorted(starts, system.el_i, side="right") - 1
+    if np.any(np.diff(blk) < 0):
+        return None, None
+    el_start = np.searchsorted(blk, np.arange(starts.size), side="left").astype(np.int64)
+    return starts.astype(np.int64), el_start
+
+
 _BASES: dict = {}
 
 
@@ -110,7 +124,7 @@ def _cached_basis(system):
 
 def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newmark | None = None,
               impact_capacity: int | None = None, store_history: bool = True,
-              free_flight: bool = True) -> RawResult:
+              free_flight: bool = True, multirate: bool = True, wait_share: float = K.WAIT_SHARE) -> RawResult:
     """Integrate a row of buildings under one (or one per DOF group) ground motion.
 
     Parameters
@@ -135,6 +149,18 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         coordinates (exact Newmark, see :mod:`seispound.integrate.modal`), when
         the buildings are linear and classically damped (default).  False
         steps physically throughout; both give the same result to round-off.
+    multirate : bool
+        While some gap is closed, let only the buildings linked to it (its
+        contact group) take contact substeps; the others take the analysis
+        step in one Newmark step and join at the substep in which one of their
+        gaps may close (default).  False: every building takes every substep.
+        The two differ by the time-discretisation error of the waiting
+        buildings' steps, the same as in free flight.
+    wait_share : float
+        Buildings wait only when together they hold at least this share of
+        the row's DOFs (default ``WAIT_SHARE`` = 0.5: below it, the
+        bookkeeping costs more than the substeps it saves); 0 lets any
+        building wait.
 
     Returns
     -------
@@ -142,6 +168,8 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     """
     nm = newmark or Newmark()
     nm.validate()
+    if not 0.0 <= wait_share <= 1.0:
+        raise ValueError(f"wait_share must lie in [0, 1], got {wait_share!r}")
     ag = np.atleast_2d(np.asarray(ground_acceleration, dtype=float))
     if ag.shape[1] != nsteps + 1:
         raise ValueError(f"ground acceleration has {ag.shape[1]} samples, expected nsteps + 1 = {nsteps + 1}")
@@ -158,17 +186,22 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     gap_size, gap_law, gap_par = system.gap_size[live], system.gap_law[live], system.gap_par[live]
     ng = live.size
     gap_lo, gap_hi = gap_blocks(system, gap_i, gap_j)
+    blk_dof, blk_el = _element_blocks(system)
+    if blk_dof is None or not multirate:  # one block: every building steps together
+        blk_dof = np.array([0, n], np.int64)
+        blk_el = np.array([0, system.el_i.size], np.int64)
     # room for every impact up front: a catalogue overflow reruns the whole integration
     cap = impact_capacity or max(256, nsteps // 4 + 16 * ng)
     nt = nsteps + 1 if store_history else 1
     basis = _cached_basis(system) if free_flight else None
     if basis is not None:
         md = (True, basis.start, basis.blocks_t, basis.block_offset, basis.phi_t, basis.phi_tm, basis.omega2, basis.c,
-              basis.participation(system.mass, system.dof_motion, ag.shape[0]), FREE_FLIGHT_BLOCK)
+              basis.participation(system.mass, system.dof_motion, ag.shape[0]), FREE_FLIGHT_BLOCK,
+              bool(multirate), float(wait_share), blk_dof, blk_el)
     else:
         e2 = np.zeros((0, 0))
         e1 = np.zeros(1, np.int64)
-        md = (False, e1, np.zeros(0), e1, e2, e2, np.zeros(0), np.zeros(0), e2, 1)
+        md = (False, e1, np.zeros(0), e1, e2, e2, np.zeros(0), np.zeros(0), e2, 1, bool(multirate), float(wait_share), blk_dof, blk_el)
     while True:
         # one buffer for every history: numpy backs allocations >= 4 MiB with
         # transparent huge pages, which saves ~1e3 page faults per run
@@ -205,7 +238,8 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     stats = dict(steps=int(st[K.S_STEPS]), iterations=int(st[K.S_ITERATIONS]),
                  rejected=int(st[K.S_REJECTED]), factorizations=int(st[K.S_FACTORIZATIONS]),
                  max_iterations=int(st[K.S_MAX_ITER]), free_flight_steps=int(st[K.S_FREE_FLIGHT]),
-                 free_flight_blocks=int(st[K.S_BLOCKS]))
+                 free_flight_blocks=int(st[K.S_BLOCKS]), waiting_steps=int(st[K.S_WAITING]),
+                 joins=int(st[K.S_JOINS]), dof_steps=int(st[K.S_DOF_STEPS]))
     return RawResult(time=np.arange(nt) * dt, displacement=out["out_u"], velocity=out["out_v"],
                      acceleration=out["out_a"], force=force, energy=out["out_e"],
                      peak_displacement=out["umax"], peak_force=peak_force, impacts=imp, stats=stats)

@@ -735,8 +735,8 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
         for g in range(ng):
             if gap_law[g] == NONE:
                 continue
-            ii = gap_i[g]
-            jj = gap_j[g]
+            ii = np.uint64(gap_i[g])  # unsigned subscripts (``_UNSIGNED``)
+            jj = np.uint64(gap_j[g])
             if k0 == 0:
                 dp = d0[g]
                 rp = r0[g]
@@ -1662,8 +1662,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     xv1 = 3 * s2 - 2 * s1
                     for qq in range(n_ss, n_scr):
                         g = scr[qq]
-                        ii = gap_i[g]
-                        jj = gap_j[g]
+                        ii = np.uint64(gap_i[g])
+                        jj = np.uint64(gap_j[g])
                         if in_s[dof_blk[ii]]:
                             xi = u[ii] + Du[ii]
                             vi = Vv[ii] + cc * Du[ii]
@@ -1682,8 +1682,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     # every building steps: the plain loop over the gaps (the list below
                     # costs an indirection and a branch per gap; measured)
                     for g in range(ng):
-                        ii = gap_i[g]
-                        jj = gap_j[g]
+                        ii = np.uint64(gap_i[g])
+                        jj = np.uint64(gap_j[g])
                         d1 = u[ii] + Du[ii] - u[jj] - Du[jj] - gap_size[g]
                         r1 = Vv[ii] + cc * Du[ii] - Vv[jj] - cc * Du[jj]
                         d_end[g] = d1
@@ -1706,8 +1706,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         d1 = d_end[g]
                         r1 = r_end[g]
                     else:
-                        ii = gap_i[g]
-                        jj = gap_j[g]
+                        ii = np.uint64(gap_i[g])
+                        jj = np.uint64(gap_j[g])
                         d1 = u[ii] + Du[ii] - u[jj] - Du[jj] - gap_size[g]
                         r1 = Vv[ii] + cc * Du[ii] - Vv[jj] - cc * Du[jj]
                     d_end[g] = d1

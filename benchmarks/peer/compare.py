@@ -68,6 +68,18 @@ def compare_case(case: PeerCase, dt: float) -> dict:
     return dict(case=case.name, dt=dt, **agreement(os_r, sp_r))
 
 
+def seispound_convergence(case: PeerCase) -> list:
+    """seispound over (dt, substeps): peak force, peak displacement, impacts, wall time."""
+    sp_rows = []
+    for dt in (0.01, 0.005, 0.0025, 0.001):
+        for sub in (8, 16, 32):
+            r = run_seispound(case, dt, Newmark(contact_substeps=sub))
+            sp_rows.append(dict(dt=dt, substeps=sub, peak_force=float(r.peak_force.max(initial=0.0)),
+                                peak_displacement=float(r.peak_displacement.max()), impacts=int(r.impacts.sum()),
+                                seconds=r.seconds))
+    return sp_rows
+
+
 def convergence(case: PeerCase, steps=OPENSEES_STEPS) -> dict:
     """OpenSees over ``steps`` and seispound over (dt, substeps): peak force, peak displacement, impacts."""
     os_rows = []
@@ -77,14 +89,7 @@ def convergence(case: PeerCase, steps=OPENSEES_STEPS) -> dict:
         os_rows.append(dict(dt=dt, peak_force=float(r.peak_force.max(initial=0.0)),
                             peak_displacement=float(r.peak_displacement.max()), impacts=int(r.impacts.sum()),
                             seconds=r.seconds, unconverged=int(r.unconverged_steps)))
-    sp_rows = []
-    for dt in (0.01, 0.005, 0.0025, 0.001):
-        for sub in (8, 16, 32):
-            r = run_seispound(case, dt, Newmark(contact_substeps=sub))
-            sp_rows.append(dict(dt=dt, substeps=sub, peak_force=float(r.peak_force.max(initial=0.0)),
-                                peak_displacement=float(r.peak_displacement.max()), impacts=int(r.impacts.sum()),
-                                seconds=r.seconds))
-    return dict(case=case.name, opensees=os_rows, seispound=sp_rows)
+    return dict(case=case.name, opensees=os_rows, seispound=seispound_convergence(case))
 
 
 def coarsest_within(rows, reference, key="peak_force", rel=0.01):
@@ -111,7 +116,12 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m benchmarks.peer.compare", description=__doc__.split("\n\n")[0])
     ap.add_argument("--duration", type=float, default=20.0, help="seconds of each record (default 20)")
     ap.add_argument("--out", default="docs/peer.json")
+    ap.add_argument("--speed-only", action="store_true",
+                    help="keep the agreement and OpenSees' convergence rows stored in --out; rerun seispound's "
+                         "convergence rows and time both programs again (after a change to seispound only)")
     args = ap.parse_args(argv)
+    if args.speed_only:
+        return _speed_only(Path(args.out))
     cases = benchmark_cases(args.duration)
     results = dict(duration=args.duration, agreement=[], convergence=[], speed=[])
     for case in cases:
@@ -132,6 +142,27 @@ def main(argv=None) -> int:
               f"substeps: {sp['speedup']:.0f}x", flush=True)
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(results, indent=1))
+    print(f"wrote {out}")
+    return 0
+
+
+def _speed_only(out: Path) -> int:
+    results = json.loads(out.read_text())
+    cases = benchmark_cases(results["duration"])
+    stored = {c["case"]: c for c in results["convergence"]}
+    results["speed"] = []
+    for case in cases:
+        if case.name not in stored:
+            continue
+        conv = stored[case.name]
+        run_seispound(case, 0.01)  # compile / load numba's cache before anything is timed
+        conv["seispound"] = seispound_convergence(case)
+        sp = speed_at_equal_accuracy(case, conv)
+        results["speed"].append(sp)
+        print(f"{case.name}: OpenSees {sp['opensees_s']:.3f} s at dt {sp['opensees']['dt']}, seispound "
+              f"{sp['seispound_s'] * 1e3:.2f} ms at dt {sp['seispound']['dt']} / {sp['seispound']['substeps']} "
+              f"substeps: {sp['speedup']:.0f}x", flush=True)
     out.write_text(json.dumps(results, indent=1))
     print(f"wrote {out}")
     return 0

@@ -467,7 +467,7 @@ def _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd):
     _internal_range(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd, 0, mass.size, 0, el_i.size)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _internal_range(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd, lo, hi, elo, ehi):
     """fs = K u and fd = C v on DOFs lo..hi-1 (whole blocks), whose elements are elo..ehi-1."""
     # unsigned subscripts (``_UNSIGNED``); el_j < 0 is the ground
@@ -896,7 +896,7 @@ def _begin_impact(g, t, dg, rg, code, par, n_sub, active, zeta, hsub, age, cur_i
     return f0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _accept_rows(lo, hi, cm, cc, mass, dof_motion, g0, g1, Du, Av, Vv, fint, u, v, a, umax, e_in, w_int):
     """Accept a step of increment Du on DOFs lo..hi-1: state, peaks, energy; return (e_in, w_int).
 

@@ -213,7 +213,7 @@ def _solve(L, p, b, x):
     _solve_range(L, p, b, x, 0, b.size)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _solve_range(L, p, b, x, lo, hi):
     """x[lo:hi] = K_hat^-1 b on DOFs lo..hi-1, a union of whole uncoupled blocks (buildings).
 
@@ -941,7 +941,7 @@ def _waiting_state(i, s, dt, u, v, u_w1, v_w1):
     return x, xd
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _linear_trial(lo, hi, elo, ehi, h, Lf, p, beta, gamma, mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1,
                   g1, u, v, a, Av, Vv, fs, fd, R0, Du):
     """Newmark predictor and linear increment of a step of size h [s] on DOFs lo..hi-1 (whole blocks).
@@ -965,7 +965,7 @@ def _linear_trial(lo, hi, elo, ehi, h, Lf, p, beta, gamma, mass, dof_a0, dof_mot
     return es
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _waiting_trial(lo, hi, elo, ehi, h, Lf, p, beta, gamma, mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1,
                    g1, u, v, a, Av, Vv, fs, fd, R0, du_w, u_w1, v_w1, a_w1):
     """A linear Newmark step of size h [s] for the blocks on DOFs lo..hi-1, none of whose gaps is closed.
@@ -985,7 +985,7 @@ def _waiting_trial(lo, hi, elo, ehi, h, Lf, p, beta, gamma, mass, dof_a0, dof_mo
         a_w1[i] = Av[i] + cm * du_w[i]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _waiting_commit(lo, hi, mass, dof_motion, g0, g1, du_w, v_w1, a_w1, u, v, a, fint, umax, e_in, w_int):
     """Accept a waiting step on DOFs lo..hi-1 (``_waiting_trial``): state, peaks, energy; return (e_in, w_int).
 

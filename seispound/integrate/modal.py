@@ -92,19 +92,14 @@ def dof_blocks(n: int, el_i: np.ndarray, el_j: np.ndarray) -> np.ndarray:
     building, or several if a spring joins them); K and C are block diagonal.
     """
     # union of the index ranges [min(i, j), max(i, j)] of the coupling elements
+    # (vectorised: integrate() calls this on every run, the twin's included)
     reach = np.arange(n)
     coupled = el_j >= 0
-    for i, j in zip(el_i[coupled], el_j[coupled]):
-        lo, hi = min(i, j), max(i, j)
-        reach[lo] = max(reach[lo], hi)
-    starts = [0]
-    far = -1
-    for d in range(n):
-        far = max(far, reach[d])
-        if far == d and d + 1 < n:
-            starts.append(d + 1)
-    starts.append(n)
-    return np.asarray(starts, np.int64)
+    i, j = el_i[coupled], el_j[coupled]
+    np.maximum.at(reach, np.minimum(i, j), np.maximum(i, j))
+    far = np.maximum.accumulate(reach)  # farthest DOF coupled to any DOF up to d
+    ends = np.flatnonzero(far[:-1] == np.arange(n - 1))  # a block ends at d: nothing reaches past it
+    return np.concatenate(([0], ends + 1, [n])).astype(np.int64)
 
 
 def modal_basis(system) -> ModalBasis | None:

@@ -109,6 +109,21 @@ def _element_blocks(system) -> tuple[np.ndarray | None, np.ndarray | None]:
 
 
 _BASES: dict = {}
+_BLOCKS: dict = {}
+
+
+def _cached_blocks(system, gap_i, gap_j):
+    """gap_blocks and _element_blocks of a row, reused across runs of the same row (a study, the twin).
+
+    Both cost tens of microseconds in Python: 5 % of a twin's run on the canonical row.
+    """
+    key = b"".join(np.ascontiguousarray(x).tobytes() for x in (
+        np.array([system.n_dof]), system.el_i, system.el_j, gap_i, gap_j))
+    if key not in _BLOCKS:
+        if len(_BLOCKS) >= 64:
+            _BLOCKS.pop(next(iter(_BLOCKS)))
+        _BLOCKS[key] = (*gap_blocks(system, gap_i, gap_j), *_element_blocks(system))
+    return _BLOCKS[key]
 
 
 def _cached_basis(system):
@@ -185,8 +200,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     gap_i, gap_j = system.gap_i[live], system.gap_j[live]
     gap_size, gap_law, gap_par = system.gap_size[live], system.gap_law[live], system.gap_par[live]
     ng = live.size
-    gap_lo, gap_hi = gap_blocks(system, gap_i, gap_j)
-    blk_dof, blk_el = _element_blocks(system)
+    gap_lo, gap_hi, blk_dof, blk_el = _cached_blocks(system, gap_i, gap_j)
     if blk_dof is None or not multirate:  # one block: every building steps together
         blk_dof = np.array([0, n], np.int64)
         blk_el = np.array([0, system.el_i.size], np.int64)

@@ -95,3 +95,24 @@ def test_woodbury_columns_of_the_second_gap_match_the_dense_inverse(row):
     assert np.max(np.abs(W[g, lo:hi] - expect[lo:hi])) <= 1e-12 * np.max(np.abs(expect))
     assert np.max(np.abs(expect[:lo])) <= 1e-15 * np.max(np.abs(expect))  # A is not coupled to the gap
     assert np.all(np.isnan(W[:g])) and np.all(np.isnan(W[g, :lo]))
+
+
+def _blocks_by_hand(n, el_i, el_j):
+    """Block starts by the definition: DOF d ends a block when no element couples a DOF <= d to one > d."""
+    starts = [0]
+    for d in range(n - 1):
+        if not any(min(i, j) <= d < max(i, j) for i, j in zip(el_i, el_j) if j >= 0):
+            starts.append(d + 1)
+    return starts + [n]
+
+
+def test_dof_blocks_match_their_definition_on_rows_with_joined_and_grounded_elements():
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        n = int(rng.integers(1, 30))
+        ne = int(rng.integers(0, 40))
+        el_i = rng.integers(0, n, ne)
+        el_j = np.where(rng.random(ne) < 0.3, -1, rng.integers(0, n, ne))
+        got = dof_blocks(n, el_i, el_j)
+        assert got.dtype == np.int64
+        assert got.tolist() == _blocks_by_hand(n, el_i, el_j)

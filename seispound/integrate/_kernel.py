@@ -1678,30 +1678,11 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                             vj = xu * (u[jj] - u_w1[jj]) + xv0 * v[jj] + xv1 * v_w1[jj]
                         d_end[g] = xi - xj - gap_size[g]
                         r_end[g] = vi - vj
-                if not waiting:
-                    # every building steps: the plain loop over the gaps (the list below
-                    # costs an indirection and a branch per gap; measured)
-                    for g in range(ng):
-                        ii = np.uint64(gap_i[g])
-                        jj = np.uint64(gap_j[g])
-                        d1 = u[ii] + Du[ii] - u[jj] - Du[jj] - gap_size[g]
-                        r1 = Vv[ii] + cc * Du[ii] - Vv[jj] - cc * Du[jj]
-                        d_end[g] = d1
-                        r_end[g] = r1
-                        if gap_law[g] == NONE or (landed and g == target):
-                            continue
-                        tol = LAND_TOL * max(abs(r0[g]), abs(r1)) * h + 1e-15
-                        th = _event_in_step(d0[g], r0[g], d1, r1, h, not active[g], tol)
-                        if landed and ((d1 >= -tol and r1 > 0.0 and not active[g])
-                                       or (d1 <= tol and r1 < 0.0 and active[g])):
-                            land_too[n_land] = g
-                            n_land += 1
-                        if th < theta:
-                            theta = th
-                            g_ev = g
-                for qq in range(n_scr if waiting else 0):
-                    g = scr[qq]
-                    waits = qq >= n_ss
+                # screen every gap (or, while some building waits, those in the list scr: the
+                # gaps with a stepping side; scr[n_ss:] have a waiting side, computed above)
+                for qq in range(n_scr if waiting else ng):
+                    g = scr[qq] if waiting else qq
+                    waits = waiting and qq >= n_ss
                     if waits:
                         d1 = d_end[g]
                         r1 = r_end[g]

@@ -112,29 +112,29 @@ _BASES: dict = {}
 _BLOCKS: dict = {}
 
 
+def _memo(cache: dict, arrays, make):
+    """make(), kept in ``cache`` under the bytes of ``arrays`` (at most 64 entries, oldest dropped)."""
+    key = b"".join(np.ascontiguousarray(x).tobytes() for x in arrays)
+    if key not in cache:
+        if len(cache) >= 64:
+            cache.pop(next(iter(cache)))
+        cache[key] = make()
+    return cache[key]
+
+
 def _cached_blocks(system, gap_i, gap_j):
     """gap_blocks and _element_blocks of a row, reused across runs of the same row (a study, the twin).
 
     Both cost tens of microseconds in Python: 5 % of a twin's run on the canonical row.
     """
-    key = b"".join(np.ascontiguousarray(x).tobytes() for x in (
-        np.array([system.n_dof]), system.el_i, system.el_j, gap_i, gap_j))
-    if key not in _BLOCKS:
-        if len(_BLOCKS) >= 64:
-            _BLOCKS.pop(next(iter(_BLOCKS)))
-        _BLOCKS[key] = (*gap_blocks(system, gap_i, gap_j), *_element_blocks(system))
-    return _BLOCKS[key]
+    return _memo(_BLOCKS, (np.array([system.n_dof]), system.el_i, system.el_j, gap_i, gap_j),
+                 lambda: (*gap_blocks(system, gap_i, gap_j), *_element_blocks(system)))
 
 
 def _cached_basis(system):
     """modal_basis(system), reused for systems with the same linear part (a run and its twin)."""
-    key = b"".join(np.ascontiguousarray(x).tobytes() for x in (
-        system.mass, system.dof_a0, system.el_i, system.el_j, system.el_k, system.el_a1))
-    if key not in _BASES:
-        if len(_BASES) >= 64:
-            _BASES.pop(next(iter(_BASES)))
-        _BASES[key] = modal_basis(system)
-    return _BASES[key]
+    return _memo(_BASES, (system.mass, system.dof_a0, system.el_i, system.el_j, system.el_k, system.el_a1),
+                 lambda: modal_basis(system))
 
 
 def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newmark | None = None,
@@ -210,12 +210,11 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     basis = _cached_basis(system) if free_flight else None
     if basis is not None:
         md = (True, basis.start, basis.blocks_t, basis.block_offset, basis.phi_t, basis.phi_tm, basis.omega2, basis.c,
-              basis.participation(system.mass, system.dof_motion, ag.shape[0]), FREE_FLIGHT_BLOCK,
-              bool(multirate), float(wait_share), blk_dof, blk_el)
+              basis.participation(system.mass, system.dof_motion, ag.shape[0]), FREE_FLIGHT_BLOCK)
     else:
         e2 = np.zeros((0, 0))
         e1 = np.zeros(1, np.int64)
-        md = (False, e1, np.zeros(0), e1, e2, e2, np.zeros(0), np.zeros(0), e2, 1, bool(multirate), float(wait_share), blk_dof, blk_el)
+        md = (False, e1, np.zeros(0), e1, e2, e2, np.zeros(0), np.zeros(0), e2, 1)
     while True:
         # one buffer for every history: numpy backs allocations >= 4 MiB with
         # transparent huge pages, which saves ~1e3 page faults per run
@@ -234,7 +233,8 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
             system.el_a1, int(system.bandwidth), system.u0, system.v0, gap_i, gap_j, gap_lo, gap_hi,
             gap_size, gap_law, np.ascontiguousarray(gap_par), np.ascontiguousarray(ag), float(dt),
             int(nsteps), float(nm.beta), float(nm.gamma), int(nm.contact_substeps), float(nm.rtol),
-            int(nm.max_iter), bool(store_history), *md, **out)
+            int(nm.max_iter), bool(store_history), *md,
+            bool(multirate), float(wait_share), blk_dof, blk_el, **out)
         if status == K.IMPACT_CAPACITY:
             cap *= 4
             continue

@@ -16,6 +16,7 @@ import pytest
 from seispound.contact import make_law
 from seispound.integrate import _kernel as K
 from seispound.integrate.modal import dof_blocks
+from seispound.integrate.newmark import _element_blocks
 from seispound.structure import Gap, assemble
 from tests.verification._helpers import shear_building
 
@@ -28,9 +29,8 @@ def row():
     bs = [shear_building("A", 4, 0.45), shear_building("B", 7, 0.8), shear_building("C", 3, 0.3)]
     s = assemble(bs, [Gap(("A", "B"), 0.01), Gap(("B", "C"), 0.01)], make_law("Hd", stiffness=2.75e9,
                                                                                 restitution=0.65))
-    starts = dof_blocks(s.n_dof, s.el_i, s.el_j)
-    blk = np.searchsorted(starts, s.el_i, side="right") - 1
-    el_start = np.searchsorted(blk, np.arange(starts.size), side="left")
+    starts, el_start = _element_blocks(s)
+    assert starts.tolist() == [0, 4, 11, 14]
     return s, starts, el_start
 
 

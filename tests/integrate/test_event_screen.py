@@ -67,3 +67,71 @@ def test_the_screen_never_misses_an_event_and_finds_the_first_crossing():
             clear += 1
             assert th == 2.0
     assert found > 1000 and clear > 1000
+
+
+def _bisect(lo, hi, d0, r0, d1, r1, h, sgn, iters=200):
+    """The reference: plain bisection to the last representable bracket, on the kernel's
+    own evaluation of the cubic (the sign of delta next to the root is round-off)."""
+    from seispound.integrate._kernel import _hermite
+
+    for _ in range(iters):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        if sgn * _hermite(mid, d0, r0, d1, r1, h) > 0.0:
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
+def test_the_crossing_refinement_lands_where_bisection_does():
+    """``_crossing_in`` (safeguarded Newton) against bisection run to round-off on the
+    same bracket: the same crossing to a few ulps, on brackets of every width and
+    position inside the step, with gentle and with steep cubics."""
+    from seispound.integrate._kernel import _crossing_in, _hermite
+
+    rng = np.random.default_rng(11)
+    checked = 0
+    worst = 0.0
+    for _ in range(40000):
+        closing = bool(rng.integers(2))
+        sgn = 1.0 if closing else -1.0
+        h = 10 ** rng.uniform(-5, -2)
+        d0, d1 = rng.normal(size=2) * 10 ** rng.uniform(-7, -3)
+        r0, r1 = rng.normal(size=2) * 10 ** rng.uniform(-3, 0.5)
+        lo, hi = np.sort(rng.uniform(0.0, 1.0, size=2))
+        f_lo = sgn * _hermite(lo, d0, r0, d1, r1, h)
+        f_hi = sgn * _hermite(hi, d0, r0, d1, r1, h)
+        if not (f_lo <= 0.0 < f_hi):
+            continue  # not a bracket: the sampler hands _crossing_in brackets only
+        got = _crossing_in(lo, hi, f_hi, d0, r0, d1, r1, h, sgn)
+        assert lo < got <= hi
+        assert sgn * _hermite(got, d0, r0, d1, r1, h) > 0.0  # past the crossing, as bisection's hi
+        ref = _bisect(lo, hi, d0, r0, d1, r1, h, sgn)
+        # the same crossing (a bracket may hold three; then either is an up-crossing)
+        if np.sum(np.diff(np.sign(sgn * cubic(d0, r0, d1, r1, h, np.linspace(lo, hi, 2001)))) != 0) == 1:
+            worst = max(worst, abs(got - ref) / ref)
+            checked += 1
+    assert checked > 3000
+    assert worst <= 8 * np.finfo(float).eps, worst
+
+
+def test_the_crossing_refinement_keeps_the_old_answer_without_a_bracket():
+    """delta already above 0 (but below tol) at the bracket's start: plain bisection, as before."""
+    from seispound.integrate._kernel import _crossing_in, _hermite
+
+    d0, r0, d1, r1, h = 2.08e-7, -0.0995, 0.00019, -1.16, 0.00146  # dips below 0, then rises past it
+    lo, hi = 0.0, 1.0 / 16.0
+    f_hi = _hermite(hi, d0, r0, d1, r1, h)
+    assert _hermite(lo, d0, r0, d1, r1, h) > 0.0 and f_hi > 0.0
+    got = _crossing_in(lo, hi, f_hi, d0, r0, d1, r1, h, 1.0)
+    ref = lo
+    hi_ = hi
+    for _ in range(60):
+        mid = 0.5 * (ref + hi_)
+        if _hermite(mid, d0, r0, d1, r1, h) > 0.0:
+            hi_ = mid
+        else:
+            ref = mid
+    assert got == hi_

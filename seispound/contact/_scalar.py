@@ -172,7 +172,18 @@ def contact_force(code, par, delta, rate, zeta):
     * Hertz:       F = k delta^1.5
     * Hertzdamp:   F = k delta^1.5 + zeta delta^1.5 rate (Muthukumar & DesRoches 2006)
     """
-    k = par[P_K]
+    return law_force(code, par[P_K], par[P_EXPONENT], par[P_MEFF], par[P_TENSION], delta, rate, zeta)
+
+
+@njit(cache=True)
+def law_force(code, k, exponent, meff, tension, delta, rate, zeta):
+    """:func:`contact_force` on the parameters as scalars (the kernel's form).
+
+    ``k``, ``exponent``, ``meff`` and ``tension`` are the columns P_K, P_EXPONENT,
+    P_MEFF and P_TENSION of a gap's parameter row.  Taking scalars rather than
+    the row lets the kernel call it without making a view of its parameter
+    table: each view costs two atomic reference-count updates in numba.
+    """
     F = 0.0
     dFd = 0.0
     dFv = 0.0
@@ -193,7 +204,7 @@ def contact_force(code, par, delta, rate, zeta):
         dFv = zeta * d
     else:
         d = max(delta, 0.0)
-        n = par[P_EXPONENT]
+        n = exponent
         if n == 1.5:  # the Hertz exponent: sqrt is much cheaper than pow
             sd = math.sqrt(d)
             dn = d * sd
@@ -212,10 +223,10 @@ def contact_force(code, par, delta, rate, zeta):
             F = k * dn
             dFd = k * dn1
             if rate >= 0.0:
-                cbar = 2.0 * zeta * math.sqrt(k * math.sqrt(d) * par[P_MEFF])
+                cbar = 2.0 * zeta * math.sqrt(k * math.sqrt(d) * meff)
                 F += cbar * rate
                 dFv = cbar
-    if par[P_TENSION] == 0.0 and F < 0.0:
+    if tension == 0.0 and F < 0.0:
         return 0.0, 0.0, 0.0
     return F, dFd, dFv
 

@@ -86,7 +86,8 @@ import math
 import numpy as np
 from numba import njit
 
-from ..contact._scalar import NIVE, NONE, contact_duration, contact_force, onset_damping
+from ..contact._scalar import (NIVE, NONE, P_EXPONENT, P_K, P_MEFF, P_TENSION, contact_duration, contact_force,
+                               law_force, onset_damping)
 
 # NIVe's damping c-bar ~ delta^(1/4) makes the force rise like t^(1/4) at first
 # contact; its first substeps are graded (1/2^ONSET_GRADING of the regular
@@ -207,7 +208,7 @@ def _factor_range(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L, l
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _solve(L, p, b, x):
     """x = K_hat^-1 b with the banded Cholesky factor L (x may alias nothing)."""
     _solve_range(L, p, b, x, 0, b.size)
@@ -507,7 +508,7 @@ def _ground(ag, row, t, dt):
     return (1.0 - f) * ag[row, k] + f * ag[row, k + 1]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _ground_all(ag, t, dt, out):
     """Ground acceleration of every motion row at time t into ``out`` (nm,)."""
     for r in range(out.size):
@@ -843,7 +844,7 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
     return n_acc, event, th_ev, g_ev, e_in, w_int
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _newton(lo, hi, act_list, Gm, dl, rl, Fm, cc, gap_law, gap_par, zeta, scale, rtol, max_iter,
             resv, kt, Sm, ym):
     """Newton-Raphson on the forces Fm[lo:hi] of one group of gaps in contact (module docstring).
@@ -863,7 +864,10 @@ def _newton(lo, hi, act_list, Gm, dl, rl, Fm, cc, gap_law, gap_par, zeta, scale,
             s1 = 0.0
             for r in range(lo, hi):
                 s1 += Gm[q, r] * Fm[r]
-            Fg, dFd, dFv = contact_force(gap_law[g], gap_par[g], dl[q] - s1, rl[q] - cc * s1, zeta[g])
+            # (the parameters as scalars: a view gap_par[g] would cost two atomic
+            # reference-count updates per evaluation)
+            Fg, dFd, dFv = law_force(gap_law[g], gap_par[g, P_K], gap_par[g, P_EXPONENT], gap_par[g, P_MEFF],
+                                     gap_par[g, P_TENSION], dl[q] - s1, rl[q] - cc * s1, zeta[g])
             resv[q] = Fm[q] - Fg
             kt[q] = dFd + cc * dFv
             rn = max(rn, abs(resv[q]))

@@ -96,6 +96,7 @@ def counting_kernel():
     """
     src = KERNEL.read_text()
     src = src.replace("from ..contact._scalar import", "from seispound.contact._scalar import")
+    src = src.replace("from ._borrow import", "from seispound.integrate._borrow import")
     src = src.replace("@njit(cache=True", "@njit(cache=False")
     for anchor, code, where in _PATCHES:
         if src.count(anchor) != 1:

@@ -86,6 +86,7 @@ import math
 import numpy as np
 from numba import njit
 
+from ._borrow import borrow, keep_alive
 from ..contact._scalar import (NIVE, NONE, P_EXPONENT, P_K, P_MEFF, P_TENSION, contact_duration, contact_force,
                                law_force, onset_damping)
 
@@ -1167,6 +1168,14 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     blk_dof, blk_el : (nb + 1,) first DOF and first element of each block
     (building); the elements of a block are contiguous.
     """
+    # arguments: alive for the whole call, so borrowed (``_borrow``: no reference counting in the loop)
+    mass, dof_a0, dof_motion, el_i, el_j, el_k = borrow(mass), borrow(dof_a0), borrow(dof_motion), borrow(el_i), borrow(el_j), borrow(el_k)
+    el_a1, u_init, v_init, gap_i, gap_j, gap_lo = borrow(el_a1), borrow(u_init), borrow(v_init), borrow(gap_i), borrow(gap_j), borrow(gap_lo)
+    gap_hi, gap_size, gap_law, gap_par, ag, md_start = borrow(gap_hi), borrow(gap_size), borrow(gap_law), borrow(gap_par), borrow(ag), borrow(md_start)
+    md_blocks_t, md_block_off, md_phi_t, md_phi_tm, md_w2, md_c = borrow(md_blocks_t), borrow(md_block_off), borrow(md_phi_t), borrow(md_phi_tm), borrow(md_w2), borrow(md_c)
+    md_gam, blk_dof, blk_el, out_u, out_v, out_a = borrow(md_gam), borrow(blk_dof), borrow(blk_el), borrow(out_u), borrow(out_v), borrow(out_a)
+    out_f, out_e, umax, fmax, imp_gap, imp_t0 = borrow(out_f), borrow(out_e), borrow(umax), borrow(fmax), borrow(imp_gap), borrow(imp_t0)
+    imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, stats = borrow(imp_v0), borrow(imp_vout), borrow(imp_fmax), borrow(imp_dur), borrow(imp_zeta), borrow(stats)
     n = mass.size
     ng = gap_size.size
     nm = ag.shape[0]
@@ -1309,6 +1318,25 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     hint_step = -1  # the step in which a block saw an event, its fraction and gap
     th_hint = 2.0
     g_hint = -1
+
+    # the work arrays: owned by this tuple (kept alive to the end), used through borrowed aliases
+    owners = (L_lev, have_lev, h_lev, L_h, u, v, a, fint, fs, fd, Du, R0, Av, Vv, sig_h, Sd_h, Wc_level, Wc_scratch, batch, Wc_ok_level, Wc_ok_scratch, dofs, order, pos, span, Kd, xs, Sm, Gm, ym, Fm, dl, rl, resv, act_list, comp_off, toggles, land_too, active, zeta, hsub, age, cur_imp, F, F1, F_old, h_old, kt, d0, r0, d_end, r_end, g_t, dof_blk, gb_lo, gb_hi, in_s, was_s, r_lo, r_hi, r_elo, r_ehi, w_lo, w_hi, w_elo, w_ehi, scr, g_w0, g_w1, du_w, u_w1, v_w1, a_w1, L_w, zero_n, g_1, mq, mqv, mqa, Qb, QVb, QAb, DQb, Pb, Ub, Vb, f_start, s_in, s_out, Eb, md_khinv)
+    L_lev, have_lev, h_lev, L_h, u, v = borrow(L_lev), borrow(have_lev), borrow(h_lev), borrow(L_h), borrow(u), borrow(v)
+    a, fint, fs, fd, Du, R0 = borrow(a), borrow(fint), borrow(fs), borrow(fd), borrow(Du), borrow(R0)
+    Av, Vv, sig_h, Sd_h, Wc_level, Wc_scratch = borrow(Av), borrow(Vv), borrow(sig_h), borrow(Sd_h), borrow(Wc_level), borrow(Wc_scratch)
+    batch, Wc_ok_level, Wc_ok_scratch, dofs, order, pos = borrow(batch), borrow(Wc_ok_level), borrow(Wc_ok_scratch), borrow(dofs), borrow(order), borrow(pos)
+    span, Kd, xs, Sm, Gm, ym = borrow(span), borrow(Kd), borrow(xs), borrow(Sm), borrow(Gm), borrow(ym)
+    Fm, dl, rl, resv, act_list, comp_off = borrow(Fm), borrow(dl), borrow(rl), borrow(resv), borrow(act_list), borrow(comp_off)
+    toggles, land_too, active, zeta, hsub, age = borrow(toggles), borrow(land_too), borrow(active), borrow(zeta), borrow(hsub), borrow(age)
+    cur_imp, F, F1, F_old, h_old, kt = borrow(cur_imp), borrow(F), borrow(F1), borrow(F_old), borrow(h_old), borrow(kt)
+    d0, r0, d_end, r_end, g_t, dof_blk = borrow(d0), borrow(r0), borrow(d_end), borrow(r_end), borrow(g_t), borrow(dof_blk)
+    gb_lo, gb_hi, in_s, was_s, r_lo, r_hi = borrow(gb_lo), borrow(gb_hi), borrow(in_s), borrow(was_s), borrow(r_lo), borrow(r_hi)
+    r_elo, r_ehi, w_lo, w_hi, w_elo, w_ehi = borrow(r_elo), borrow(r_ehi), borrow(w_lo), borrow(w_hi), borrow(w_elo), borrow(w_ehi)
+    scr, g_w0, g_w1, du_w, u_w1, v_w1 = borrow(scr), borrow(g_w0), borrow(g_w1), borrow(du_w), borrow(u_w1), borrow(v_w1)
+    a_w1, L_w, zero_n, g_1, mq, mqv = borrow(a_w1), borrow(L_w), borrow(zero_n), borrow(g_1), borrow(mq), borrow(mqv)
+    mqa, Qb, QVb, QAb, DQb, Pb = borrow(mqa), borrow(Qb), borrow(QVb), borrow(QAb), borrow(DQb), borrow(Pb)
+    Ub, Vb, f_start, s_in, s_out, Eb = borrow(Ub), borrow(Vb), borrow(f_start), borrow(s_in), borrow(s_out), borrow(Eb)
+    md_khinv = borrow(md_khinv)
 
     if not _factor(dt, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[0]):
         return NEWTON_FAILED, 0, 0.0
@@ -1955,4 +1983,5 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
             es += 0.5 * fs[i] * u[i]
         out_e[pending, E_STRAIN] = es
         out_e[pending, E_DAMPING] -= es - es0
+    keep_alive(owners)
     return OK, n_imp, t

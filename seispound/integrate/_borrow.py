@@ -1,0 +1,53 @@
+"""Borrowed arrays: views without a reference count, for the kernel's time loop.
+
+numba counts references to every array it allocates or receives (a *meminfo*
+per buffer): each new alias, view or argument of a call increments the count
+and decrements it again when it dies, both with atomic instructions.  numba's
+pruning pass removes the pairs it can prove redundant, but in a loop of the
+kernel's size many stay: about a hundred atomic updates per contact step, 10 to
+13 % of a run (``python -m benchmarks.profile_kernel``).
+
+:func:`borrow` returns the same array (data, shape, strides) with no meminfo,
+so every reference-count operation on it, on its aliases and on its views is a
+test of a null pointer.  The caller must keep the owner alive for as long as
+the borrowed array is used: the kernel borrows its arguments (alive for the
+whole call) and the work arrays it allocates, which it holds in a tuple passed
+to :func:`keep_alive` at its end.
+"""
+
+from __future__ import annotations
+
+from numba import types
+from numba.core import cgutils
+from numba.extending import intrinsic
+
+
+@intrinsic
+def borrow(typingctx, arr):
+    """The array ``arr`` without its reference count (same type, data, shape and strides)."""
+    if not isinstance(arr, types.Array):
+        return None
+
+    def codegen(context, builder, signature, args):
+        src = context.make_array(arr)(context, builder, value=args[0])
+        dst = context.make_array(arr)(context, builder)
+        dst.meminfo = cgutils.get_null_value(dst.meminfo.type)
+        dst.parent = cgutils.get_null_value(dst.parent.type)
+        dst.nitems = src.nitems
+        dst.itemsize = src.itemsize
+        dst.data = src.data
+        dst.shape = src.shape
+        dst.strides = src.strides
+        return dst._getvalue()
+
+    return arr(arr), codegen
+
+
+@intrinsic
+def keep_alive(typingctx, owners):
+    """Do nothing with ``owners``: a use that keeps them (and what they own) alive up to here."""
+
+    def codegen(context, builder, signature, args):
+        return context.get_dummy_value()
+
+    return types.none(owners), codegen

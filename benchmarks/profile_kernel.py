@@ -1,0 +1,193 @@
+"""Where the pounding kernel spends its time: a sampling profile by function.
+
+``python -m benchmarks.profile_kernel [--model M] [--seconds S]`` (Linux, needs
+``perf`` and ``nm`` on the PATH).
+
+numba's compiled code has no symbols that ``perf`` can see, so this does it in
+three steps:
+
+1. a child process compiles the kernel into a fresh, temporary numba cache, so
+   that the object code of the compiled library is at hand, and writes that
+   object file; a second child loads the same object from that cache, writes the
+   address at which ``integrate_kernel`` was loaded, and runs ``integrate`` on
+   the model in a loop;
+2. ``perf record`` samples the child (only while it loops, not while it compiles);
+3. each sampled instruction address, less the load address, is an offset into the
+   object's code section, and ``nm`` gives every function's offset and size there
+   (numba emits its helpers as weak symbols; those it inlines into the kernel
+   count as the kernel's own lines).
+
+Printed: the share of the samples in each function of the kernel's library, and
+the share of the process's samples outside it by shared object (BLAS for the
+free-flight products, Python for ``integrate``'s own overhead).  Shares of
+samples, not times: the loop runs ``integrate`` back to back, so they are shares
+of a run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+
+
+def _child(model: str, out: Path, seconds: float) -> int:
+    import numpy as np  # noqa: F401
+
+    from seispound import load_model
+    from seispound.integrate import _kernel as K
+    from seispound.integrate import integrate
+    from seispound.simulation import prepare_ground_motion
+    from seispound.structure import assemble
+
+    m = load_model(model)
+    an = m.analysis
+    system = assemble(m.buildings, m.gaps, m.contact)
+    ag, _ = prepare_ground_motion(m)
+
+    def run():
+        return integrate(system, ag, an.dt, an.nsteps, an.newmark)
+
+    raw = run()
+    cres = next(iter(K.integrate_kernel.overloads.values()))
+    lib = cres.library
+    if not (out / "kernel.o").exists():
+        # first child: compiled into the fresh cache, so the object code is at hand; stop here
+        # (a library compiled in this process is laid out apart from its object file)
+        (out / "kernel.o").write_bytes(lib._get_compiled_object())
+        return 0
+    # second child: loaded that object from the cache, where the offsets of kernel.o hold
+    addr = lib.get_pointer_to_function(cres.fndesc.mangled_name)
+    (out / "kernel_addr").write_text(f"{addr:x}\n")
+    (out / "stats").write_text(repr(raw.stats))
+    for _ in range(3):
+        run()
+    print("ready", flush=True)
+    sys.stdin.readline()  # the parent starts perf, then says go
+    t0 = time.perf_counter()
+    n = 0
+    while time.perf_counter() - t0 < seconds:
+        run()
+        n += 1
+    print(f"runs {n} {(time.perf_counter() - t0) / n:.6f}", flush=True)
+    return 0
+
+
+def _symbols(obj: Path):
+    """(offset, size, name) of the functions in the object's code, sorted by offset."""
+    txt = subprocess.run(["nm", "-S", str(obj)], capture_output=True, text=True, check=True).stdout
+    syms = []
+    for line in txt.splitlines():
+        p = line.split()
+        if len(p) == 4 and p[2] in "TtWw":
+            # readable name: the module and function of the mangled path (_ZN9seispound9integrate7_kernel...)
+            m = re.match(r"^(cfunc\.)?_ZN(.*)", p[3])
+            name = p[3]
+            if m:
+                parts, rest = [], m.group(2)
+                while rest[:1].isdigit():
+                    k = re.match(r"\d+", rest).group(0)
+                    parts.append(rest[len(k):len(k) + int(k)])
+                    rest = rest[len(k) + int(k):]
+                name = (m.group(1) or "") + ".".join(parts[-2:])
+            syms.append((int(p[0], 16), int(p[1], 16), name))
+    return sorted(syms)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.profile_kernel", description=__doc__.split("\n\n")[0])
+    ap.add_argument("--model", default=str(REPO / "models" / "row_of_three.toml"))
+    ap.add_argument("--seconds", type=float, default=10.0, help="length of the sampled loop (default 10)")
+    ap.add_argument("--frequency", type=int, default=10000, help="perf sampling frequency [Hz]")
+    ap.add_argument("--child", help=argparse.SUPPRESS)
+    args = ap.parse_args(argv)
+    if args.child:
+        return _child(args.model, Path(args.child), args.seconds)
+    for tool in ("perf", "nm"):
+        if shutil.which(tool) is None:
+            print(f"benchmarks.profile_kernel: {tool} not found on the PATH", file=sys.stderr)
+            return 2
+    with tempfile.TemporaryDirectory(prefix="seispound-profile-") as tmp:
+        out = Path(tmp)
+        env = dict(os.environ, NUMBA_CACHE_DIR=str(out / "numba-cache"))
+        print("compiling the kernel into a fresh numba cache (about a minute) ...", file=sys.stderr, flush=True)
+        cmd = [sys.executable, "-m", "benchmarks.profile_kernel", "--model", args.model,
+               "--seconds", str(args.seconds), "--child", str(out)]
+        if subprocess.run(cmd, cwd=REPO, env=env).returncode != 0 or not (out / "kernel.o").exists():
+            print("benchmarks.profile_kernel: compiling the kernel failed", file=sys.stderr)
+            return 2
+        child = subprocess.Popen([sys.executable, "-m", "benchmarks.profile_kernel", "--model", args.model,
+                                  "--seconds", str(args.seconds), "--child", str(out)],
+                                 cwd=REPO, env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+        line = child.stdout.readline()
+        if line.strip() != "ready":
+            child.wait()
+            print("benchmarks.profile_kernel: the child did not start", file=sys.stderr)
+            return 2
+        data = out / "perf.data"
+        perf = subprocess.Popen(["perf", "record", "-q", "-F", str(args.frequency), "-o", str(data),
+                                 "-p", str(child.pid)], stderr=subprocess.PIPE, text=True)
+        time.sleep(0.5)  # perf attached
+        child.stdin.write("go\n")
+        child.stdin.flush()
+        runs = child.stdout.readline().split()
+        child.wait()
+        perf.send_signal(signal.SIGINT)
+        _, err = perf.communicate()
+        if perf.returncode not in (0, -signal.SIGINT) or not data.exists():
+            print(f"benchmarks.profile_kernel: perf record failed: {err.strip().splitlines()[-1:]}", file=sys.stderr)
+            return 2
+        script = subprocess.run(["perf", "script", "-i", str(data), "-F", "ip,dso"],
+                                capture_output=True, text=True).stdout
+        base = int((out / "kernel_addr").read_text(), 16)
+        syms = _symbols(out / "kernel.o")
+        stats = (out / "stats").read_text()
+    starts = [s for s, _, _ in syms]
+    import bisect
+
+    inside = collections.Counter()
+    outside = collections.Counter()
+    total = 0
+    for line in script.splitlines():
+        p = line.split()
+        if not p:
+            continue
+        try:
+            ip = int(p[0], 16)
+        except ValueError:
+            continue
+        total += 1
+        off = ip - base
+        k = bisect.bisect_right(starts, off) - 1
+        if k >= 0 and off < syms[k][0] + syms[k][1]:
+            inside[syms[k][2]] += 1
+        else:
+            dso = p[1].strip("()") if len(p) > 1 else "?"
+            outside[Path(dso).name if dso.startswith("/") else dso] += 1
+    n_in = sum(inside.values())
+    print(f"model {args.model}: {runs[1]} runs of integrate() back to back, {float(runs[2]) * 1e3:.2f} ms each; "
+          f"{total} samples at {args.frequency} Hz")
+    print(f"stats of one run: {stats}")
+    print(f"\nthe kernel's library: {100 * n_in / total:.1f} % of the samples; by function "
+          f"(share of the library's samples; helpers inlined into the kernel count as integrate_kernel):")
+    for name, c in inside.most_common():
+        if c / n_in >= 0.001:
+            print(f"  {100 * c / n_in:5.1f} %  {name}")
+    print("\noutside it (share of all samples), by shared object:")
+    for name, c in outside.most_common(8):
+        print(f"  {100 * c / total:5.1f} %  {name}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,7 +1,7 @@
 """Where the pounding kernel spends its time: a sampling profile by function.
 
-``python -m benchmarks.profile_kernel [--model M] [--seconds S]`` (Linux, needs
-``perf`` and ``nm`` on the PATH).
+``python -m benchmarks.profile_kernel [--model M | --row BxS] [--seconds S]``
+(Linux, needs ``perf`` and ``nm`` on the PATH).
 
 numba's compiled code has no symbols that ``perf`` can see, so this does it in
 three steps:
@@ -41,22 +41,31 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parent.parent
 
 
-def _child(model: str, out: Path, seconds: float) -> int:
-    import numpy as np  # noqa: F401
-
+def _child(model: str, row: str | None, out: Path, seconds: float) -> int:
     from seispound import load_model
     from seispound.integrate import _kernel as K
     from seispound.integrate import integrate
     from seispound.simulation import prepare_ground_motion
     from seispound.structure import assemble
 
-    m = load_model(model)
-    an = m.analysis
-    system = assemble(m.buildings, m.gaps, m.contact)
-    ag, _ = prepare_ground_motion(m)
+    if row:  # a row of the scaling benchmark: B buildings of S storeys, 20 s of El Centro
+        from .scaling import _ground, _row
 
-    def run():
-        return integrate(system, ag, an.dt, an.nsteps, an.newmark)
+        nb, ns = (int(x) for x in row.lower().split("x"))
+        system = _row(nb, ns)
+        dt = 0.005
+        ag, nsteps = _ground(20.0, dt)
+
+        def run():
+            return integrate(system, ag, dt, nsteps)
+    else:
+        m = load_model(model)
+        an = m.analysis
+        system = assemble(m.buildings, m.gaps, m.contact)
+        ag, _ = prepare_ground_motion(m)
+
+        def run():
+            return integrate(system, ag, an.dt, an.nsteps, an.newmark)
 
     raw = run()
     cres = next(iter(K.integrate_kernel.overloads.values()))
@@ -107,12 +116,14 @@ def _symbols(obj: Path):
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m benchmarks.profile_kernel", description=__doc__.split("\n\n")[0])
     ap.add_argument("--model", default=str(REPO / "models" / "row_of_three.toml"))
+    ap.add_argument("--row", help="instead of a model: a row of the scaling benchmark, e.g. 4x25 "
+                    "(buildings x storeys, 20 s of El Centro 180, Hd, gaps 2 cm)")
     ap.add_argument("--seconds", type=float, default=10.0, help="length of the sampled loop (default 10)")
     ap.add_argument("--frequency", type=int, default=10000, help="perf sampling frequency [Hz]")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
-        return _child(args.model, Path(args.child), args.seconds)
+        return _child(args.model, args.row, Path(args.child), args.seconds)
     for tool in ("perf", "nm"):
         if shutil.which(tool) is None:
             print(f"benchmarks.profile_kernel: {tool} not found on the PATH", file=sys.stderr)
@@ -122,12 +133,11 @@ def main(argv=None) -> int:
         env = dict(os.environ, NUMBA_CACHE_DIR=str(out / "numba-cache"))
         print("compiling the kernel into a fresh numba cache (about a minute) ...", file=sys.stderr, flush=True)
         cmd = [sys.executable, "-m", "benchmarks.profile_kernel", "--model", args.model,
-               "--seconds", str(args.seconds), "--child", str(out)]
+               "--seconds", str(args.seconds), "--child", str(out)] + (["--row", args.row] if args.row else [])
         if subprocess.run(cmd, cwd=REPO, env=env).returncode != 0 or not (out / "kernel.o").exists():
             print("benchmarks.profile_kernel: compiling the kernel failed", file=sys.stderr)
             return 2
-        child = subprocess.Popen([sys.executable, "-m", "benchmarks.profile_kernel", "--model", args.model,
-                                  "--seconds", str(args.seconds), "--child", str(out)],
+        child = subprocess.Popen(cmd,
                                  cwd=REPO, env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
         line = child.stdout.readline()
         if line.strip() != "ready":
@@ -175,7 +185,7 @@ def main(argv=None) -> int:
             dso = p[1].strip("()") if len(p) > 1 else "?"
             outside[Path(dso).name if dso.startswith("/") else dso] += 1
     n_in = sum(inside.values())
-    print(f"model {args.model}: {runs[1]} runs of integrate() back to back, {float(runs[2]) * 1e3:.2f} ms each; "
+    print(f"{'row ' + args.row if args.row else 'model ' + args.model}: {runs[1]} runs of integrate() back to back, {float(runs[2]) * 1e3:.2f} ms each; "
           f"{total} samples at {args.frequency} Hz")
     print(f"stats of one run: {stats}")
     print(f"\nthe kernel's library: {100 * n_in / total:.1f} % of the samples; by function "

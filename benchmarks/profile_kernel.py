@@ -27,6 +27,7 @@ of a run.
 from __future__ import annotations
 
 import argparse
+import bisect
 import collections
 import os
 import re
@@ -155,7 +156,8 @@ def main(argv=None) -> int:
         perf.send_signal(signal.SIGINT)
         _, err = perf.communicate()
         if perf.returncode not in (0, -signal.SIGINT) or not data.exists():
-            print(f"benchmarks.profile_kernel: perf record failed: {err.strip().splitlines()[-1:]}", file=sys.stderr)
+            last = err.strip().splitlines()[-1] if err.strip() else f"exit code {perf.returncode}"
+            print(f"benchmarks.profile_kernel: perf record failed: {last}", file=sys.stderr)
             return 2
         script = subprocess.run(["perf", "script", "-i", str(data), "-F", "ip,dso"],
                                 capture_output=True, text=True).stdout
@@ -163,8 +165,6 @@ def main(argv=None) -> int:
         syms = _symbols(out / "kernel.o")
         stats = (out / "stats").read_text()
     starts = [s for s, _, _ in syms]
-    import bisect
-
     inside = collections.Counter()
     outside = collections.Counter()
     total = 0
@@ -185,7 +185,8 @@ def main(argv=None) -> int:
             dso = p[1].strip("()") if len(p) > 1 else "?"
             outside[Path(dso).name if dso.startswith("/") else dso] += 1
     n_in = sum(inside.values())
-    print(f"{'row ' + args.row if args.row else 'model ' + args.model}: {runs[1]} runs of integrate() back to back, {float(runs[2]) * 1e3:.2f} ms each; "
+    what = f"row {args.row}" if args.row else f"model {args.model}"
+    print(f"{what}: {runs[1]} runs of integrate() back to back, {float(runs[2]) * 1e3:.2f} ms each; "
           f"{total} samples at {args.frequency} Hz")
     print(f"stats of one run: {stats}")
     print(f"\nthe kernel's library: {100 * n_in / total:.1f} % of the samples; by function "

@@ -617,13 +617,12 @@ def _crossing_in(lo, hi, f_hi, d0, r0, d1, r1, h, sgn):
             break
         if not lo < x < hi:
             x = 0.5 * (lo + hi)
-        s2 = x * x
-        f = sgn * ((2 * s2 * x - 3 * s2 + 1) * d0 + (s2 * x - 2 * s2 + x) * h * r0
-                   + (-2 * s2 * x + 3 * s2) * d1 + (s2 * x - s2) * h * r1)
+        f = sgn * _hermite(x, d0, r0, d1, r1, h)
         if f > 0.0:
             hi = x
         else:
             lo = x
+        s2 = x * x  # d delta / ds of the cubic
         df = sgn * ((6 * s2 - 6 * x) * (d0 - d1) + (3 * s2 - 4 * x + 1) * h * r0 + (3 * s2 - 2 * x) * h * r1)
         width = hi - lo
         step = f / df if df != 0.0 else 2.0 * width
@@ -1169,13 +1168,17 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     (building); the elements of a block are contiguous.
     """
     # arguments: alive for the whole call, so borrowed (``_borrow``: no reference counting in the loop)
-    mass, dof_a0, dof_motion, el_i, el_j, el_k = borrow(mass), borrow(dof_a0), borrow(dof_motion), borrow(el_i), borrow(el_j), borrow(el_k)
-    el_a1, u_init, v_init, gap_i, gap_j, gap_lo = borrow(el_a1), borrow(u_init), borrow(v_init), borrow(gap_i), borrow(gap_j), borrow(gap_lo)
-    gap_hi, gap_size, gap_law, gap_par, ag, md_start = borrow(gap_hi), borrow(gap_size), borrow(gap_law), borrow(gap_par), borrow(ag), borrow(md_start)
-    md_blocks_t, md_block_off, md_phi_t, md_phi_tm, md_w2, md_c = borrow(md_blocks_t), borrow(md_block_off), borrow(md_phi_t), borrow(md_phi_tm), borrow(md_w2), borrow(md_c)
-    md_gam, blk_dof, blk_el, out_u, out_v, out_a = borrow(md_gam), borrow(blk_dof), borrow(blk_el), borrow(out_u), borrow(out_v), borrow(out_a)
-    out_f, out_e, umax, fmax, imp_gap, imp_t0 = borrow(out_f), borrow(out_e), borrow(umax), borrow(fmax), borrow(imp_gap), borrow(imp_t0)
-    imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, stats = borrow(imp_v0), borrow(imp_vout), borrow(imp_fmax), borrow(imp_dur), borrow(imp_zeta), borrow(stats)
+    mass, dof_a0, dof_motion, el_i = borrow(mass), borrow(dof_a0), borrow(dof_motion), borrow(el_i)
+    el_j, el_k, el_a1, u_init, v_init = borrow(el_j), borrow(el_k), borrow(el_a1), borrow(u_init), borrow(v_init)
+    gap_i, gap_j, gap_lo, gap_hi = borrow(gap_i), borrow(gap_j), borrow(gap_lo), borrow(gap_hi)
+    gap_size, gap_law, gap_par, ag = borrow(gap_size), borrow(gap_law), borrow(gap_par), borrow(ag)
+    md_start, md_blocks_t, md_block_off = borrow(md_start), borrow(md_blocks_t), borrow(md_block_off)
+    md_phi_t, md_phi_tm, md_w2, md_c = borrow(md_phi_t), borrow(md_phi_tm), borrow(md_w2), borrow(md_c)
+    md_gam, blk_dof, blk_el, out_u = borrow(md_gam), borrow(blk_dof), borrow(blk_el), borrow(out_u)
+    out_v, out_a, out_f, out_e, umax = borrow(out_v), borrow(out_a), borrow(out_f), borrow(out_e), borrow(umax)
+    fmax, imp_gap, imp_t0, imp_v0 = borrow(fmax), borrow(imp_gap), borrow(imp_t0), borrow(imp_v0)
+    imp_vout, imp_fmax, imp_dur, imp_zeta = borrow(imp_vout), borrow(imp_fmax), borrow(imp_dur), borrow(imp_zeta)
+    stats = borrow(stats)
     n = mass.size
     ng = gap_size.size
     nm = ag.shape[0]
@@ -1320,23 +1323,30 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     g_hint = -1
 
     # the work arrays: owned by this tuple (kept alive to the end), used through borrowed aliases
-    owners = (L_lev, have_lev, h_lev, L_h, u, v, a, fint, fs, fd, Du, R0, Av, Vv, sig_h, Sd_h, Wc_level, Wc_scratch, batch, Wc_ok_level, Wc_ok_scratch, dofs, order, pos, span, Kd, xs, Sm, Gm, ym, Fm, dl, rl, resv, act_list, comp_off, toggles, land_too, active, zeta, hsub, age, cur_imp, F, F1, F_old, h_old, kt, d0, r0, d_end, r_end, g_t, dof_blk, gb_lo, gb_hi, in_s, was_s, r_lo, r_hi, r_elo, r_ehi, w_lo, w_hi, w_elo, w_ehi, scr, g_w0, g_w1, du_w, u_w1, v_w1, a_w1, L_w, zero_n, g_1, mq, mqv, mqa, Qb, QVb, QAb, DQb, Pb, Ub, Vb, f_start, s_in, s_out, Eb, md_khinv)
-    L_lev, have_lev, h_lev, L_h, u, v = borrow(L_lev), borrow(have_lev), borrow(h_lev), borrow(L_h), borrow(u), borrow(v)
-    a, fint, fs, fd, Du, R0 = borrow(a), borrow(fint), borrow(fs), borrow(fd), borrow(Du), borrow(R0)
-    Av, Vv, sig_h, Sd_h, Wc_level, Wc_scratch = borrow(Av), borrow(Vv), borrow(sig_h), borrow(Sd_h), borrow(Wc_level), borrow(Wc_scratch)
-    batch, Wc_ok_level, Wc_ok_scratch, dofs, order, pos = borrow(batch), borrow(Wc_ok_level), borrow(Wc_ok_scratch), borrow(dofs), borrow(order), borrow(pos)
+    owners = (L_lev, have_lev, h_lev, L_h, u, v, a, fint, fs, fd, Du, R0, Av, Vv, sig_h, Sd_h, Wc_level, Wc_scratch,
+              batch, Wc_ok_level, Wc_ok_scratch, dofs, order, pos, span, Kd, xs, Sm, Gm, ym, Fm, dl, rl, resv,
+              act_list, comp_off, toggles, land_too, active, zeta, hsub, age, cur_imp, F, F1, F_old, h_old, kt, d0,
+              r0, d_end, r_end, g_t, dof_blk, gb_lo, gb_hi, in_s, was_s, r_lo, r_hi, r_elo, r_ehi, w_lo, w_hi,
+              w_elo, w_ehi, scr, g_w0, g_w1, du_w, u_w1, v_w1, a_w1, L_w, zero_n, g_1, mq, mqv, mqa, Qb, QVb, QAb,
+              DQb, Pb, Ub, Vb, f_start, s_in, s_out, Eb, md_khinv)
+    L_lev, have_lev, h_lev, L_h, u = borrow(L_lev), borrow(have_lev), borrow(h_lev), borrow(L_h), borrow(u)
+    v, a, fint, fs, fd, Du, R0 = borrow(v), borrow(a), borrow(fint), borrow(fs), borrow(fd), borrow(Du), borrow(R0)
+    Av, Vv, sig_h, Sd_h, Wc_level = borrow(Av), borrow(Vv), borrow(sig_h), borrow(Sd_h), borrow(Wc_level)
+    Wc_scratch, batch, Wc_ok_level = borrow(Wc_scratch), borrow(batch), borrow(Wc_ok_level)
+    Wc_ok_scratch, dofs, order, pos = borrow(Wc_ok_scratch), borrow(dofs), borrow(order), borrow(pos)
     span, Kd, xs, Sm, Gm, ym = borrow(span), borrow(Kd), borrow(xs), borrow(Sm), borrow(Gm), borrow(ym)
-    Fm, dl, rl, resv, act_list, comp_off = borrow(Fm), borrow(dl), borrow(rl), borrow(resv), borrow(act_list), borrow(comp_off)
-    toggles, land_too, active, zeta, hsub, age = borrow(toggles), borrow(land_too), borrow(active), borrow(zeta), borrow(hsub), borrow(age)
-    cur_imp, F, F1, F_old, h_old, kt = borrow(cur_imp), borrow(F), borrow(F1), borrow(F_old), borrow(h_old), borrow(kt)
-    d0, r0, d_end, r_end, g_t, dof_blk = borrow(d0), borrow(r0), borrow(d_end), borrow(r_end), borrow(g_t), borrow(dof_blk)
-    gb_lo, gb_hi, in_s, was_s, r_lo, r_hi = borrow(gb_lo), borrow(gb_hi), borrow(in_s), borrow(was_s), borrow(r_lo), borrow(r_hi)
-    r_elo, r_ehi, w_lo, w_hi, w_elo, w_ehi = borrow(r_elo), borrow(r_ehi), borrow(w_lo), borrow(w_hi), borrow(w_elo), borrow(w_ehi)
-    scr, g_w0, g_w1, du_w, u_w1, v_w1 = borrow(scr), borrow(g_w0), borrow(g_w1), borrow(du_w), borrow(u_w1), borrow(v_w1)
-    a_w1, L_w, zero_n, g_1, mq, mqv = borrow(a_w1), borrow(L_w), borrow(zero_n), borrow(g_1), borrow(mq), borrow(mqv)
-    mqa, Qb, QVb, QAb, DQb, Pb = borrow(mqa), borrow(Qb), borrow(QVb), borrow(QAb), borrow(DQb), borrow(Pb)
-    Ub, Vb, f_start, s_in, s_out, Eb = borrow(Ub), borrow(Vb), borrow(f_start), borrow(s_in), borrow(s_out), borrow(Eb)
-    md_khinv = borrow(md_khinv)
+    Fm, dl, rl, resv, act_list = borrow(Fm), borrow(dl), borrow(rl), borrow(resv), borrow(act_list)
+    comp_off, toggles, land_too, active = borrow(comp_off), borrow(toggles), borrow(land_too), borrow(active)
+    zeta, hsub, age, cur_imp, F = borrow(zeta), borrow(hsub), borrow(age), borrow(cur_imp), borrow(F)
+    F1, F_old, h_old, kt, d0, r0 = borrow(F1), borrow(F_old), borrow(h_old), borrow(kt), borrow(d0), borrow(r0)
+    d_end, r_end, g_t, dof_blk, gb_lo = borrow(d_end), borrow(r_end), borrow(g_t), borrow(dof_blk), borrow(gb_lo)
+    gb_hi, in_s, was_s, r_lo, r_hi = borrow(gb_hi), borrow(in_s), borrow(was_s), borrow(r_lo), borrow(r_hi)
+    r_elo, r_ehi, w_lo, w_hi, w_elo = borrow(r_elo), borrow(r_ehi), borrow(w_lo), borrow(w_hi), borrow(w_elo)
+    w_ehi, scr, g_w0, g_w1, du_w = borrow(w_ehi), borrow(scr), borrow(g_w0), borrow(g_w1), borrow(du_w)
+    u_w1, v_w1, a_w1, L_w, zero_n = borrow(u_w1), borrow(v_w1), borrow(a_w1), borrow(L_w), borrow(zero_n)
+    g_1, mq, mqv, mqa, Qb, QVb = borrow(g_1), borrow(mq), borrow(mqv), borrow(mqa), borrow(Qb), borrow(QVb)
+    QAb, DQb, Pb, Ub, Vb, f_start = borrow(QAb), borrow(DQb), borrow(Pb), borrow(Ub), borrow(Vb), borrow(f_start)
+    s_in, s_out, Eb, md_khinv = borrow(s_in), borrow(s_out), borrow(Eb), borrow(md_khinv)
 
     if not _factor(dt, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[0]):
         return NEWTON_FAILED, 0, 0.0

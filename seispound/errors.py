@@ -6,7 +6,7 @@ Every problem with user input (a model file, a record, a parameter) is raised as
 
 from __future__ import annotations
 
-__all__ = ["InputError"]
+__all__ = ["InputError", "number_array"]
 
 
 class InputError(ValueError):
@@ -35,3 +35,39 @@ class InputError(ValueError):
     def located(self, *, file=None, key: str | None = None) -> "InputError":
         """Return a copy with a file/key filled in where still missing."""
         return InputError(self.message, file=self.file or file, key=self.key or key)
+
+
+def number_array(value, key: str, *, file=None):
+    """``value`` as a 1-D float array, accepting only numbers or lists of numbers.
+
+    Strings and booleans are refused even where numpy would convert them
+    (``np.asarray("1e5", float)`` is 1e5): a quoted number in a model file or
+    a string set from Python is a mistake reported at its own key, on both paths.
+
+    Parameters
+    ----------
+    value : number or sequence of numbers
+    key : str
+        The dotted key, for the error.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,), float64
+
+    Raises
+    ------
+    InputError
+        Naming ``key`` and what was found.
+    """
+    import numbers
+
+    import numpy as np
+
+    items = value.tolist() if isinstance(value, np.ndarray) else value
+    seq = items if isinstance(items, (list, tuple)) else [items]
+    for pos, x in enumerate(seq):
+        if isinstance(x, bool) or not isinstance(x, numbers.Real):
+            what = f"a string ({x!r})" if isinstance(x, str) else repr(x)
+            where = "" if seq is not items else f"entry {pos + 1} is "
+            raise InputError(f"must be a number or a list of numbers; {where}{what}", file=file, key=key)
+    return np.atleast_1d(np.asarray(seq, dtype=float)).reshape(-1)

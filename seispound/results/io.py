@@ -2,38 +2,36 @@
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import xarray as xr
 
+from .._output import atomic_output, check_writable
 from ..errors import InputError
 
-__all__ = ["write_result", "open_result"]
+__all__ = ["write_result", "open_result", "RESULT_SUFFIXES"]
+
+#: Suffixes of result files.
+RESULT_SUFFIXES = (".h5", ".hdf5", ".nc")
 
 
 def write_result(ds: xr.Dataset, path) -> Path:
     """Write ``ds`` to ``path`` (HDF5 via h5netcdf), atomically.
 
     The file is written under a temporary name in the same folder and renamed
-    at the end, so an interrupted or failed write leaves nothing half-written.
+    at the end, so an interrupted or failed write leaves nothing half-written;
+    the finished file has the permissions of the umask (``0o666 & ~umask``).
+
+    Raises
+    ------
+    InputError
+        If ``path`` cannot be written (a folder, a missing or read-only
+        folder, no permission), before anything is written.
     """
-    path = Path(path)
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise InputError(f"output folder does not exist: {folder}", file=path, key="output")
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
-    os.close(fd)
-    try:
-        encoding = {name: {"zlib": True, "complevel": 4} for name, v in ds.data_vars.items()
-                    if v.ndim >= 2}
+    path = check_writable(path, key="output")
+    encoding = {name: {"zlib": True, "complevel": 4} for name, v in ds.data_vars.items() if v.ndim >= 2}
+    with atomic_output(path, key="output") as tmp:
         ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding, invalid_netcdf=False)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
     return path
 
 

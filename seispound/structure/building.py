@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.linalg import eigh
 
-from ..errors import InputError
+from ..errors import InputError, number_array
 
 __all__ = ["Building", "RayleighDamping", "NoDamping"]
 
@@ -84,11 +84,10 @@ class Building:
         self.storey_stiffness = arrays["storey_stiffness"]
         self.storey_heights = arrays["storey_heights"]
         v0 = self.initial_velocity
-        try:
-            v = np.broadcast_to(np.asarray(v0, dtype=float), (n,)).copy()
-        except (TypeError, ValueError):
-            raise InputError(f"must be a number or a list of {n} numbers, got {v0!r}",
-                             key=f"{key}.initial_velocity") from None
+        v = number_array(v0, f"{key}.initial_velocity")
+        if v.size not in (1, n):
+            raise InputError(f"must be a number or a list of {n} numbers, got {v.size}", key=f"{key}.initial_velocity")
+        v = np.broadcast_to(v, (n,)).copy()
         if not np.all(np.isfinite(v)):
             raise InputError("must be finite", key=f"{key}.initial_velocity")
         self.initial_velocity = v
@@ -158,11 +157,8 @@ class Building:
 
 
 def _positive_vector(value, key) -> np.ndarray:
-    try:
-        arr = np.atleast_1d(np.asarray(value, dtype=float))
-    except (TypeError, ValueError):
-        raise InputError(f"must be a list of numbers, got {value!r}", key=key) from None
-    if arr.ndim != 1 or arr.size == 0:
+    arr = number_array(value, key)
+    if arr.size == 0:
         raise InputError("must be a non-empty list of numbers", key=key)
     bad = np.flatnonzero(~(np.isfinite(arr) & (arr > 0)))
     if bad.size:

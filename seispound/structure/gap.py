@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, number_array
 
 __all__ = ["Gap", "GapLink", "HEIGHT_TOLERANCE"]
 
@@ -92,11 +92,8 @@ def expand_gap(gap: Gap, gap_index: int, buildings, default_law, key: str | None
               if abs(ha[fa] - hb[fb]) <= HEIGHT_TOLERANCE]
     if not levels:
         raise InputError(f"{a.name} and {b.name} have no floor at a common level", key=f"{key}.between")
-    try:
-        sizes = np.atleast_1d(np.asarray(gap.size, dtype=float))
-    except (TypeError, ValueError):
-        raise InputError(f"must be a number or a list of numbers, got {gap.size!r}", key=f"{key}.size") from None
-    if sizes.ndim != 1 or sizes.size not in (1, len(levels)):
+    sizes = number_array(gap.size, f"{key}.size")
+    if sizes.size not in (1, len(levels)):
         raise InputError(f"give one size or {len(levels)} (one per common level), got {sizes.size}",
                          key=f"{key}.size")
     if not np.all(np.isfinite(sizes)):

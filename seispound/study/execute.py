@@ -126,8 +126,10 @@ def run_study(study, out, *, scheduler: str | None = None, workers: int | None =
         scheduler = default_scheduler()
     if out.suffix.lower() not in (".h5", ".hdf5", ".nc"):
         raise InputError("the store must end in .h5, .hdf5 or .nc", file=out, key="-o")
-    if not out.parent.is_dir():
-        raise InputError(f"output folder does not exist: {out.parent}", file=out, key="-o")
+    from .._output import check_writable
+
+    check_writable(out, key="-o")  # the store and, next to it, the journal: before any run
+    check_writable(journal_path(out), key="-o (its journal)")
     for stale in out.parent.glob(f".{out.name}.tmp-*"):  # left by a kill during a store rewrite
         stale.unlink(missing_ok=True)
     h = study.hash()

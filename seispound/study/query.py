@@ -36,10 +36,8 @@ import csv
 import io
 import json
 import math
-import os
 import re
 import sys
-import tempfile
 import warnings
 from pathlib import Path
 
@@ -732,18 +730,12 @@ def _pairs(items, key: str, form: str) -> list[tuple[str, str]]:
 
 def _write_atomic(path: Path, text: str) -> None:
     """Write ``text`` to ``path`` via a temporary file and ``os.replace``: never half-written."""
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise InputError(f"output folder does not exist: {folder}", file=path, key="-o")
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
+    from .._output import atomic_output, check_writable
+
+    check_writable(path, key="-o")
+    with atomic_output(path, key="-o") as tmp:
+        with open(tmp, "w", encoding="utf-8", newline="") as fh:
             fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 def _is_overview(args) -> bool:
@@ -798,6 +790,10 @@ def cmd_query(args) -> int:
     InputError
         Any bad input, located at the study file (or the output file).
     """
+    if args.output:  # an output that cannot be written: one line, before reading the store
+        from .._output import check_writable
+
+        check_writable(Path(args.output), key="-o")
     fmt = args.format or {".csv": "csv", ".json": "json"}.get(Path(args.output or "").suffix.lower(), "table")
     try:
         with open_study(args.study) as ds:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 from pathlib import Path
 
 from .errors import InputError
@@ -27,6 +28,9 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--no-twin", action="store_true",
                      help="skip the no-pounding twin run (amplification is then NaN)")
     run.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
+    run.add_argument("--force", action="store_true",
+                     help="run even when a plausibility guard refuses the input (a PGA above 3 g ...); "
+                          "the findings are still printed and stored in the result")
     sub.add_parser("laws", help="list the contact laws, their parameters and units")
     st = sub.add_parser("study", help="run a parametric study (records x parameter axes) into one HDF5 store",
                         description="Run every run of STUDY.toml not yet in the store; rerun the same "
@@ -92,15 +96,18 @@ def _run(args) -> int:
     from .results import write_result
     from .simulation import simulate
 
+    from ._output import check_writable
+    from .plausibility import PlausibilityWarning
+    from .results.io import RESULT_SUFFIXES
+
     model_path = Path(args.model)
     out = Path(args.output) if args.output else model_path.with_suffix(".h5")
-    if out.suffix.lower() not in (".h5", ".hdf5", ".nc"):
-        raise InputError("output must end in .h5, .hdf5 or .nc", file=out, key="output")
-    if not out.parent.is_dir() and str(out.parent):
-        raise InputError(f"output folder does not exist: {out.parent}", file=out, key="output")
+    check_writable(out, key="--output", suffixes=RESULT_SUFFIXES)  # before any work
     model = load_model(model_path)
     try:
-        ds = simulate(model, twin=not args.no_twin)
+        with warnings.catch_warnings():  # findings are printed by the summary, from the result
+            warnings.simplefilter("ignore", PlausibilityWarning)
+            ds = simulate(model, twin=not args.no_twin, force=args.force)
     except IntegrationError as err:
         print(f"seispound: error: {model_path}: {err}", file=sys.stderr)
         return EXIT_FAILED

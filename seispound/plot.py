@@ -64,10 +64,12 @@ def _out_paths(out) -> tuple[Path, Path]:
         out = out.with_suffix("")
     if not out.name:
         raise InputError("output needs a file name", file=out, key="--output")
-    folder = out.parent if str(out.parent) else Path(".")
-    if not folder.is_dir():
-        raise InputError(f"output folder does not exist: {folder}", file=out, key="--output")
-    return out.with_name(out.name + ".png"), out.with_name(out.name + ".svg")
+    from ._output import check_writable
+
+    finals = out.with_name(out.name + ".png"), out.with_name(out.name + ".svg")
+    for final in finals:  # a folder, a read-only or virtual file system: one line, before any work
+        check_writable(final, key="--output")
+    return finals
 
 
 def save_figure(fig, out) -> tuple[Path, Path]:
@@ -87,6 +89,8 @@ def save_figure(fig, out) -> tuple[Path, Path]:
     (Path, Path)
         The PNG and SVG paths written.
     """
+    from ._output import default_file_mode
+
     finals = _out_paths(out)
     temps = []
     try:
@@ -95,6 +99,7 @@ def save_figure(fig, out) -> tuple[Path, Path]:
             os.close(fd)
             temps.append(tmp)
             fig.savefig(tmp, format=final.suffix[1:], dpi=DPI)
+            os.chmod(tmp, default_file_mode())  # mkstemp's 0600 would ignore the umask
         for tmp, final in zip(temps, finals):
             os.replace(tmp, final)
     finally:

@@ -69,7 +69,7 @@ class _SettingError(Exception):
         self.message, self.section, self.key, self.record = message, section, key, record
 
 
-def simulate(model, *, twin: bool = True) -> xr.Dataset:
+def simulate(model, *, twin: bool = True, force: bool = False) -> xr.Dataset:
     """Simulate ``model`` and return its result Dataset (schema in :mod:`seispound.results.schema`).
 
     The no-pounding twin (all gaps disabled, same record and settings) runs
@@ -80,17 +80,55 @@ def simulate(model, *, twin: bool = True) -> xr.Dataset:
     model : Model
     twin : bool
         Run the no-pounding twin (default True).  Without it the amplification is NaN.
+    force : bool
+        Run even when a plausibility guard would refuse (a PGA above 3 g ...;
+        :mod:`seispound.plausibility`).  Findings are still warned about and stored.
+
+    Raises
+    ------
+    InputError
+        Invalid or refused input (one line naming file and key).
+    IntegrationError
+        Newton did not converge, or the state became non-finite (the message names the time).
     """
     from . import __version__
+    from .plausibility import check_after_run, check_before_run, issue, to_json
     from .results import build_dataset
 
     model.validate()
     system = assemble(model.buildings, model.gaps, model.contact)
     ag, prov = prepare_ground_motion(model)
+    findings = check_before_run(model, prov, ag)
+    issue(findings, force=force, file=model.source)
     an = model.analysis
     raw = integrate(system, ag, an.dt, an.nsteps, an.newmark)
+    _check_finite(raw, an.dt)
     if twin:
         raw0 = integrate(system.without_contact(), ag, an.dt, an.nsteps, an.newmark, store_history=False)
+        _check_finite(raw0, an.dt, what="the no-pounding twin")
     else:
         raw0 = dataclasses.replace(raw, peak_displacement=np.full_like(raw.peak_displacement, np.nan))
-    return build_dataset(model, system, raw, raw0, ag, prov, __version__)
+    ds = build_dataset(model, system, raw, raw0, ag, prov, __version__)
+    after = check_after_run(ds)
+    issue(after, force=True)
+    ds.attrs["plausibility"] = to_json(findings + after)
+    return ds
+
+
+def _check_finite(raw, dt, what="the run"):
+    """Stop with the first time at which the state or energy balance is not finite.
+
+    A diverging integration must not end as a result: non-finite energies or
+    peaks raise IntegrationError naming the time.  The energy terms are sums
+    over every DOF of u, v and the ground input, so a NaN or inf anywhere in the
+    state shows in the energy row of that instant and every later one.
+    """
+    from .integrate import IntegrationError
+
+    rows = np.isfinite(raw.energy).all(axis=1)
+    if rows.all() and np.isfinite(raw.peak_displacement).all() and np.isfinite(raw.peak_force).all():
+        return
+    bad = int(np.argmin(rows)) if not rows.all() else raw.energy.shape[0] - 1
+    t = float(raw.time[bad]) if raw.time.size > bad else float("nan")
+    raise IntegrationError(f"{what} diverged: the state or energy balance is not finite at t = {t:.6g} s "
+                           f"(dt = {dt:g} s); check the step, the Newmark parameters and the model's units")

@@ -88,4 +88,48 @@ class Model:
         if dup:
             raise InputError(f"building names must be unique; repeated: {', '.join(sorted(dup))}",
                              file=self.source, key="building.name")
-        self.analysis.validate()
+        try:
+            self.analysis.validate()
+            for b in self.buildings:  # fields may have been set from Python since the model was read
+                b.validate()
+            if self.contact is not None:
+                self.contact.validate(key="contact")
+            from ..structure import assemble
+
+            assemble(self.buildings, self.gaps, self.contact)  # gap neighbours, levels, sizes, laws
+            self._check_stability()
+        except InputError as err:
+            raise err.located(file=self.source) from None
+
+    def _check_stability(self) -> None:
+        """Refuse a Newmark step beyond its stability limit for the stiffest mode of the row.
+
+        For gamma >= 1/2 and 2 beta < gamma the Newmark method is stable for
+        dt / T_n <= 1 / (pi sqrt(2) sqrt(gamma - 2 beta)) (Chopra, Dynamics of
+        Structures, Eq. 5.5.1 and its generalisation; Hughes 1987, Sec. 9.1).
+        The contact substeps, an impact duration split ``contact_substeps``
+        times (half a contact period for a linear law), must satisfy it too
+        for the contact stiffness.
+        """
+        nm = self.analysis.newmark
+        limit = nm.stability_limit()
+        if math.isinf(limit):
+            return
+        t_min, where = math.inf, ""
+        for b in self.buildings:
+            periods = b.periods
+            if periods[-1] < t_min:
+                t_min, where = float(periods[-1]), f"building {b.name}, mode {periods.size}"
+        dt = self.analysis.dt
+        if dt > limit * t_min:
+            raise InputError(
+                f"Newmark beta = {nm.beta:g}, gamma = {nm.gamma:g} is stable only for dt <= {limit:.3g} T_min = "
+                f"{limit * t_min:.3g} s (T_min = {t_min:.3g} s, {where}); dt = {dt:g} s would diverge: "
+                "use a smaller dt or beta = 0.25 (average acceleration, unconditionally stable)",
+                key="analysis.dt")
+        if 1.0 / (2.0 * nm.contact_substeps) > limit:
+            need = math.ceil(1.0 / (2.0 * limit) + 1e-12)
+            raise InputError(
+                f"with Newmark beta = {nm.beta:g}, gamma = {nm.gamma:g} the contact substeps are stable only "
+                f"for contact_substeps >= {need} (half a contact period split into substeps of at most "
+                f"{limit:.3g} contact periods), got {nm.contact_substeps}", key="analysis.contact_substeps")

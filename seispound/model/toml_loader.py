@@ -11,7 +11,7 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 from ..contact import get_law
-from ..errors import InputError
+from ..errors import InputError, number_array
 from ..integrate import Newmark
 from ..structure import Building, Gap, NoDamping, RayleighDamping, assemble
 from .spec import Analysis, GroundMotionSpec, Model
@@ -152,6 +152,7 @@ def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
         fields = {}
         for fld in ("floor_masses", "storey_stiffness", "storey_heights"):
             val = b[fld]
+            number_array(val, f"{key}.{fld}")  # a quoted number is reported here, at its own key
             if _number(val) and floors is not None:
                 if not isinstance(floors, int) or isinstance(floors, bool) or floors < 1:
                     raise InputError(f"must be an integer >= 1, got {floors!r}", key=f"{key}.floors")

@@ -100,9 +100,14 @@ def render(data: dict, duration: float) -> str:
 
 
 def main(argv=None) -> int:
-    argv = sys.argv[1:] if argv is None else argv
-    src = Path(argv[0] if argv else "docs/peer.json")
-    dst = Path(argv[1] if len(argv) > 1 else "docs/peer.md")
+    import argparse
+
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.peer.report",
+                                 description="Write the peer comparison's Markdown report from its JSON.")
+    ap.add_argument("src", nargs="?", default="docs/peer.json", help="JSON of benchmarks.peer.compare")
+    ap.add_argument("dst", nargs="?", default="docs/peer.md", help="Markdown file to write")
+    args = ap.parse_args(sys.argv[1:] if argv is None else argv)
+    src, dst = Path(args.src), Path(args.dst)
     data = json.loads(src.read_text())
     duration = data.get("duration", 20.0)
     dst.write_text(render(data, duration))

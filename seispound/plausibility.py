@@ -159,26 +159,32 @@ def _step_findings(model) -> list[Finding]:
 
 
 def _level_findings(model) -> list[Finding]:
+    """Neighbours whose floors, up to the lower roof, mostly stand at levels the other has no floor at."""
     from .structure.gap import HEIGHT_TOLERANCE
 
     out = []
     index = {b.name: b for b in model.buildings}
     for gi, gap in enumerate(model.gaps):
-        a, b = (index.get(n) for n in gap.between)
-        if a is None or b is None:
+        pair = [index.get(n) for n in gap.between]
+        if None in pair:
             continue
-        low, high = (a, b) if a.floor_heights[-1] <= b.floor_heights[-1] else (b, a)
-        hl, hh = low.floor_heights, high.floor_heights
-        match = np.array([np.any(np.abs(hh - h) <= HEIGHT_TOLERANCE) for h in hl])
-        if match.mean() >= LEVEL_SHARE:
+        roof = min(b.floor_heights[-1] for b in pair) + HEIGHT_TOLERANCE
+        facing, shared = [], None
+        for b, other in (pair, pair[::-1]):
+            h = b.floor_heights[b.floor_heights <= roof]
+            match = np.array([np.any(np.abs(other.floor_heights - x) <= HEIGHT_TOLERANCE) for x in h])
+            shared = h[match] if shared is None else shared
+            facing.append((b, other, np.flatnonzero(~match) + 1, h[~match], h.size))
+        most = max(f[4] for f in facing)
+        if shared.size >= LEVEL_SHARE * most:
             continue
-        at = ", ".join(f"{h:g}" for h in hl[match]) or "none"
-        miss = ", ".join(f"{f} ({h:g} m)" for f, h in zip(np.flatnonzero(~match) + 1, hl[~match]))
+        faces = "; ".join(f"{b.name}'s floors {', '.join(f'{f} ({x:g} m)' for f, x in zip(fl, hs))} face a storey "
+                          f"of {o.name}" for b, o, fl, hs, _ in facing if fl.size)
         out.append(Finding(
-            "floor_levels", f"{a.name}|{b.name}: only {int(match.sum())} of {low.name}'s {hl.size} floors are at a "
-                            f"level {high.name} also has; gap elements at {at} m only. {low.name}'s floors {miss} "
-                            f"face a storey of {high.name}, which this model does not let them strike",
-            key=f"gap.{gi + 1}.between"))
+            "floor_levels", f"{pair[0].name}|{pair[1].name}: only {shared.size} of the floor levels below the lower "
+                            f"roof are shared ({most} floors in the taller count); gap elements at "
+                            f"{', '.join(f'{x:g}' for x in shared) or 'none'} m only. {faces}: this model does "
+                            "not let a floor strike a storey", key=f"gap.{gi + 1}.between"))
     return out
 
 

@@ -11,7 +11,6 @@ import xarray as xr
 
 from .errors import InputError
 from .integrate import integrate
-from .structure import assemble
 
 __all__ = ["simulate", "prepare_ground_motion"]
 
@@ -95,8 +94,7 @@ def simulate(model, *, twin: bool = True, force: bool = False) -> xr.Dataset:
     from .plausibility import check_after_run, check_before_run, issue, to_json
     from .results import build_dataset
 
-    model.validate()
-    system = assemble(model.buildings, model.gaps, model.contact)
+    system = model.assembled()  # validated as the file reader validates, assembled once
     ag, prov = prepare_ground_motion(model)
     findings = check_before_run(model, prov, ag)
     issue(findings, force=force, file=model.source)

@@ -81,6 +81,11 @@ class Model:
     text: str | None = None  # its text, stored in the results
 
     def validate(self) -> None:
+        """Check every part of the model as the file reader does; InputError naming the file and key."""
+        self.assembled()
+
+    def assembled(self):
+        """Validate the model and return its assembled arrays (``structure.SystemArrays``), in one pass."""
         names = [b.name for b in self.buildings]
         if not names:
             raise InputError("a model needs at least one [[building]]", file=self.source, key="building")
@@ -96,10 +101,11 @@ class Model:
                 self.contact.validate(key="contact")
             from ..structure import assemble
 
-            assemble(self.buildings, self.gaps, self.contact)  # gap neighbours, levels, sizes, laws
+            system = assemble(self.buildings, self.gaps, self.contact)  # gap neighbours, levels, sizes, laws
             self._check_stability()
         except InputError as err:
             raise err.located(file=self.source) from None
+        return system
 
     def _check_stability(self) -> None:
         """Refuse a Newmark step beyond its stability limit for the stiffest mode of the row.

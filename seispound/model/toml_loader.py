@@ -13,7 +13,7 @@ else:  # pragma: no cover
 from ..contact import get_law
 from ..errors import InputError, number_array
 from ..integrate import Newmark
-from ..structure import Building, Gap, NoDamping, RayleighDamping, assemble
+from ..structure import Building, Gap, NoDamping, RayleighDamping
 from .spec import Analysis, GroundMotionSpec, Model
 
 __all__ = ["load_model", "parse_model", "read_toml"]
@@ -189,8 +189,7 @@ def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
                          key="contact")
     model = Model(title=title, buildings=buildings, gaps=gaps, contact=law, analysis=analysis,
                   ground_motion=gm, source=source, text=text)
-    model.validate()
-    assemble(model.buildings, model.gaps, model.contact)  # checks gaps (neighbours, common levels, sizes)
+    model.validate()  # buildings, gaps (neighbours, common levels, sizes), laws, Newmark stability
     return model
 
 

@@ -49,6 +49,8 @@ def _parser() -> argparse.ArgumentParser:
     st.add_argument("--overwrite", action="store_true",
                     help="replace a store (and journal) of a different study at the output path")
     st.add_argument("-q", "--quiet", action="store_true", help="no progress bar or summary")
+    st.add_argument("--force", action="store_true",
+                    help="run records that a plausibility guard refuses (a PGA above 3 g)")
     from .study.query import add_query_parser
 
     add_query_parser(sub)
@@ -118,6 +120,7 @@ def _run(args) -> int:
 
 
 def _study(args) -> int:
+    from .plausibility import PlausibilityWarning
     from .study import load_study, run_study
 
     path = Path(args.study)
@@ -141,8 +144,11 @@ def _study(args) -> int:
         dims = " x ".join(f"{n} {d}" for n, d in zip(study.shape, study.run_dims))
         print(f"{study.title}\n  {study.n_runs} runs ({dims}) -> {out}", flush=True)
     try:
-        res = run_study(study, out, scheduler=scheduler, workers=args.workers, chunk=args.chunk,
-                        progress=not args.quiet, snapshot=args.snapshot, overwrite=args.overwrite)
+        with warnings.catch_warnings():  # -q: the findings stay unsaid (progress mode prints them)
+            warnings.simplefilter("ignore", PlausibilityWarning)
+            res = run_study(study, out, scheduler=scheduler, workers=args.workers, chunk=args.chunk,
+                            progress=not args.quiet, snapshot=args.snapshot, overwrite=args.overwrite,
+                            force=args.force)
     except KeyboardInterrupt:
         print(f"seispound: interrupted; finished runs are kept in {out} and its journal: "
               "rerun the same command to resume", file=sys.stderr)

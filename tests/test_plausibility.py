@@ -149,3 +149,19 @@ def test_refusal_is_an_input_error_naming_file_and_key(tmp_path):
     with pytest.raises(InputError) as info:
         sp.simulate(model)
     assert info.value.key == "ground_motion.units" and info.value.file.endswith("model.toml")
+
+
+def test_study_refuses_an_implausible_record_before_any_run(tmp_path, capsys):
+    from tests.study.conftest import write_study
+
+    study = write_study(tmp_path, duration=0.3, records=("elcentro_180",), gaps=(0.01,))
+    model = tmp_path / "two.toml"
+    model.write_text(model.read_text().replace("scale = 1.0", "scale = 981.0"))
+    out = tmp_path / "s.h5"
+    assert cli.main(["study", str(study), "-o", str(out), "--scheduler", "serial", "-q"]) == 2
+    line = capsys.readouterr().err.strip()
+    assert "\n" not in line and "study.toml: records: record elcentro_180" in line and "PGA is 275.5 g" in line
+    assert not out.exists() and not list(tmp_path.glob("*.journal"))
+    assert cli.main(["study", str(study), "-o", str(out), "--scheduler", "serial", "--force"]) == 0
+    assert "warning: record elcentro_180: the record's PGA is 275.5 g" in capsys.readouterr().err
+    assert out.exists()

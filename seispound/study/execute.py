@@ -90,7 +90,7 @@ def _fmt_time(s: float) -> str:
 
 
 def run_study(study, out, *, scheduler: str | None = None, workers: int | None = None, chunk: int | None = None,
-              progress: bool = True, snapshot: float = 30.0, overwrite: bool = False) -> dict:
+              progress: bool = True, snapshot: float = 30.0, overwrite: bool = False, force: bool = False) -> dict:
     """Run every run of ``study`` not yet in the store ``out``; write the store; return counts.
 
     Parameters
@@ -116,6 +116,9 @@ def run_study(study, out, *, scheduler: str | None = None, workers: int | None =
         Seconds between rewrites of the store while the study runs (0: only at the end).
     overwrite : bool
         Discard a store or journal of another study at ``out`` instead of refusing.
+    force : bool
+        Run records that a plausibility guard refuses (a PGA above 3 g: see
+        :func:`check_records`).
 
     Returns
     -------
@@ -130,6 +133,7 @@ def run_study(study, out, *, scheduler: str | None = None, workers: int | None =
 
     check_writable(out, key="-o")  # the store and, next to it, the journal: before any run
     check_writable(journal_path(out), key="-o (its journal)")
+    check_records(study, force=force, progress=progress)
     for stale in out.parent.glob(f".{out.name}.tmp-*"):  # left by a kill during a store rewrite
         stale.unlink(missing_ok=True)
     h = study.hash()
@@ -156,6 +160,38 @@ def run_study(study, out, *, scheduler: str | None = None, workers: int | None =
         raise
     finally:
         journal.close()
+
+
+def check_records(study, *, force: bool = False, progress: bool = True) -> None:
+    """Refuse a study one of whose records a plausibility guard refuses (PGA above 3 g), unless ``force``.
+
+    Each record is read and prepared once, with the base model's settings, in
+    this process (the prepared records are cached, and forked workers inherit
+    the cache).  A record that cannot be read is left to its runs, which fail
+    with its error while the study goes on.  Other findings go to stderr.
+    """
+    import warnings
+
+    from ..plausibility import PlausibilityWarning, check_before_run
+    from ..simulation import prepare_ground_motion
+
+    per_record = math.prod(study.shape[1:])
+    for r, rec in enumerate(study.records):
+        model = study.model_for(r * per_record)
+        try:
+            ag, prov = prepare_ground_motion(model)
+        except InputError:
+            continue
+        for f in check_before_run(model, prov, ag):
+            if f.code in ("coarse_step", "floor_levels") and r > 0:
+                continue  # the structure's findings, said once
+            if f.refuse and not force:
+                raise InputError(f"record {rec.name} ({rec.file.name}): {f.message}", file=study.path,
+                                 key="records")
+            if progress:
+                print(f"seispound: warning: record {rec.name}: {f.message}", file=sys.stderr)
+            else:
+                warnings.warn(f"record {rec.name}: {f.message}", PlausibilityWarning, stacklevel=3)
 
 
 def default_scheduler() -> str:

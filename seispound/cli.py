@@ -7,6 +7,7 @@ with code 2, without a traceback and without writing anything.
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 import warnings
 from pathlib import Path
@@ -183,6 +184,8 @@ def summary(ds, out=None) -> str:
         lines.append(f"  largest amplification {float(amp.max()):.3f} at building {b}, floor {f} "
                      f"(peak {float(ds.peak_displacement.sel(building=b, floor=f)) * 100:.2f} cm with pounding, "
                      f"{float(ds.peak_displacement_no_pounding.sel(building=b, floor=f)) * 100:.2f} cm without)")
+    for finding in json.loads(ds.attrs.get("plausibility", "[]")):
+        lines.append(f"  warning: {finding['message']}")
     if out is not None:
         lines.append(f"  written to {out}")
     return "\n".join(lines)

@@ -42,14 +42,15 @@ def prepare_ground_motion(model):
 @functools.lru_cache(maxsize=32)
 def _read_prepared(file, mtime_ns, size, trace, units, calibration, scale, baseline, dt, nsteps):
     """Read and prepare a record once per (file version, settings): studies rerun the same record."""
-    from .motion import ground_acceleration, read_record
+    from .motion.record import on_analysis_grid, read_record
 
     path = Path(file)
     try:
         rec = read_record(path, trace=trace, units=units, calibration=calibration, scale=scale)
         if baseline is not None:
             rec = rec.baseline_corrected(order=baseline)
-        ag = ground_acceleration(rec, dt, nsteps * dt)
+        rec = on_analysis_grid(rec, dt, nsteps * dt)  # resampled, cut or zero-padded: each step in provenance
+        ag = np.array(rec.acceleration)
     except InputError as err:
         if err.key in ("units", "trace", "calibration", "scale", "baseline", "dt"):
             # a setting of the model file that does not fit the record

@@ -72,14 +72,14 @@ def test_coarser_step_than_the_record_says_it_decimated(tmp_path):
 
 
 def test_duration_beyond_the_record_says_zero_padded(tmp_path):
-    text = sub("duration = 0.2", "duration = 45.0")(BASE)  # El Centro 180 lasts 39.99 s
+    text = sub("duration = 0.2", "duration = 60.0")(BASE)  # El Centro 180 lasts 53.71 s
     model = sp.load_model(_write(tmp_path, text))
     with pytest.warns(PlausibilityWarning, match="zero-padded"):
         ds = sp.simulate(model, twin=False)
     msg = next(f["message"] for f in json.loads(ds.attrs["plausibility"]) if f["code"] == "zero_padded")
     end = float(msg.split("the record ends at ")[1].split(" s")[0])
-    assert end == pytest.approx(39.99, abs=0.011)
-    assert "the last 5.0" in msg
+    assert end == pytest.approx(53.71, abs=1e-9)
+    assert "the last 6.29 s are free vibration" in msg
 
 
 def _share_mode(m, k):
@@ -136,7 +136,7 @@ def test_velocity_ratio_outside_unit_interval_is_named_not_an_error():
 
 def test_findings_refuse_only_what_is_marked(tmp_path):
     """Every non-refusing finding lets the run go on (exit 0) and is printed by the run summary."""
-    text = sub("duration = 0.2", "duration = 41.0")(BASE)
+    text = sub("duration = 0.2", "duration = 55.0")(BASE)
     text = sub("dt = 0.005", "dt = 0.02")(text)
     model = _write(tmp_path, text)
     assert cli.main(["run", str(model), "-o", str(tmp_path / "r.h5"), "--no-twin"]) == 0

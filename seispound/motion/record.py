@@ -29,7 +29,7 @@ import scipy.signal
 
 from seispound.errors import InputError
 
-__all__ = ["G_STANDARD", "Record", "read_record", "ground_acceleration", "UNIT_FACTORS"]
+__all__ = ["G_STANDARD", "Record", "read_record", "ground_acceleration", "on_analysis_grid", "UNIT_FACTORS"]
 
 from seispound.motion.units import G_STANDARD, UNIT_FACTORS, _canonical_units
 
@@ -190,10 +190,10 @@ class Record:
         taps = scipy.signal.firwin(2 * _HALF_TAPS_PER_PHASE * rate + 1, 1.0 / rate,
                                    window=("kaiser", _KAISER_BETA))
         acc = scipy.signal.resample_poly(self.acceleration, up, down, window=taps)[:n_new]
-        step = (f"resampled from dt={_fmt(self.dt)} s to dt={_fmt(dt)} s by "
+        step = (f"decimated (resampled to a coarser step) from dt={_fmt(self.dt)} s to dt={_fmt(dt)} s by "
                 f"scipy.signal.resample_poly(up={up}, down={down}) with a zero-phase "
                 f"{taps.size}-tap Kaiser (beta={_KAISER_BETA}) FIR anti-alias low-pass "
-                f"at {_fmt(0.5 / dt)} Hz")
+                f"at {_fmt(0.5 / dt)} Hz: content up to {_fmt(0.4 / dt)} Hz is kept")
         return self._derived(acc, dt, step)
 
     def baseline_corrected(self, order: int = 1) -> "Record":
@@ -478,32 +478,40 @@ def read_record(path, *, trace=0, units="auto", calibration=None, scale=1.0,
     return Record(data * (factor * scale), dt, provenance)
 
 
-def ground_acceleration(record: Record, dt: float, duration: float) -> np.ndarray:
-    """Ground acceleration on the analysis grid ``t = 0, dt, ..., duration``.
+#: Share of the new Nyquist frequency below which the decimation filter passes content
+#: with relative error ~1e-5 (the Kaiser FIR of :meth:`Record.resampled`).
+PASSBAND_SHARE = 0.8
 
-    The record is resampled with :meth:`Record.resampled` if its step differs,
-    then cut or zero-padded (zero after the record ends) to the grid.  No
-    baseline correction is applied here.
+
+def on_analysis_grid(record: Record, dt: float, duration: float) -> Record:
+    """The record on the analysis grid ``t = 0, dt, ..., duration``, every step in its provenance.
+
+    Resampled with :meth:`Record.resampled` if its step differs (linear
+    interpolation when refining, anti-aliased decimation when coarsening),
+    then cut (:meth:`Record.truncated`) or zero-padded (:meth:`Record.padded`)
+    to the grid.  Each step appends its sentence to ``provenance["processing"]``,
+    and the provenance gains the facts the plausibility guards read:
+
+    ``pga`` [m/s^2] and ``dt_record`` [s], ``record_duration`` [s] of the record
+    as given (read, converted, scaled, baseline-corrected); ``decimated`` (bool);
+    ``highest_resolved_frequency`` [Hz] (the decimation filter's passband edge,
+    ``PASSBAND_SHARE`` of the new Nyquist frequency, else the record's Nyquist
+    frequency); ``zero_padded_from`` [s] (the record's end, if the grid goes
+    beyond it, else None); ``truncated_to`` [s] (the grid's end, if the record
+    goes beyond it, else None).
 
     Parameters
     ----------
     record : Record
-        The ground motion.
     dt : float
-        Analysis time step, s, > 0.
+        Analysis step [s], > 0.
     duration : float
-        Analysis duration, s, >= 0.
+        Analysis duration [s], >= 0.
 
     Returns
     -------
-    numpy.ndarray, shape (round(duration / dt) + 1,)
-        Acceleration in m/s², float64 (a new, writable array).
-
-    Raises
-    ------
-    InputError
-        Key ``dt`` or ``duration`` for non-positive/non-finite values, or
-        from :meth:`Record.resampled`.
+    Record
+        ``round(duration / dt) + 1`` samples at ``dt``.
     """
     file = record.provenance.get("file")
     dt = _positive_finite(dt, "dt", file)
@@ -512,11 +520,32 @@ def ground_acceleration(record: Record, dt: float, duration: float) -> np.ndarra
     except (TypeError, ValueError):
         duration = math.nan
     if not (math.isfinite(duration) and duration >= 0.0):
-        raise InputError(f"duration must be finite and >= 0, got {duration!r}",
-                         file=file, key="duration")
+        raise InputError(f"duration must be finite and >= 0, got {duration!r}", file=file, key="duration")
     n = int(round(duration / dt)) + 1
-    acc = record.resampled(dt).acceleration
-    out = np.zeros(n)
-    m = min(n, acc.size)
-    out[:m] = acc[:m]
-    return out
+    end = (n - 1) * dt
+    decimated = dt > record.dt * (1 + _RTOL)
+    facts = {
+        "pga": record.pga, "dt_record": record.dt, "record_duration": record.duration, "decimated": decimated,
+        "highest_resolved_frequency": (PASSBAND_SHARE * 0.5 / dt) if decimated else 0.5 / record.dt,
+        "zero_padded_from": record.duration if end > record.duration * (1 + _RTOL) + 1e-12 else None,
+        "truncated_to": end if end < record.duration * (1 - _RTOL) else None,
+    }
+    rec = record.resampled(dt)
+    if n > 1:
+        rec = rec.truncated(end).padded(end)
+    acc = rec.acceleration
+    if acc.size != n:  # rounding of the grid's last sample: keep exactly n, say so if it pads
+        acc = np.concatenate([acc[:n], np.zeros(max(0, n - acc.size))])
+        rec = Record(acc, dt, rec.provenance) if n >= 2 else rec
+    prov = dict(rec.provenance)
+    prov.update(facts)
+    return Record(rec.acceleration, dt, prov)
+
+
+def ground_acceleration(record: Record, dt: float, duration: float) -> np.ndarray:
+    """Ground acceleration on the analysis grid ``t = 0, dt, ..., duration`` [m/s^2].
+
+    The samples of :func:`on_analysis_grid` (which also returns the provenance
+    of every step); a new, writable array of shape ``(round(duration / dt) + 1,)``.
+    """
+    return np.array(on_analysis_grid(record, dt, duration).acceleration)

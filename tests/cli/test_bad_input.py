@@ -236,6 +236,6 @@ def test_output_folder_missing(tmp_path):
     assert proc.returncode == 2
     assert proc.stdout == ""
     lines = proc.stderr.splitlines()
-    assert len(lines) == 1 and ": output: " in lines[0] and "x.h5" in lines[0]
+    assert len(lines) == 1 and ": --output: " in lines[0] and "x.h5" in lines[0]
     assert not (tmp_path / "nope").exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["model.toml", "rec.AT2"]

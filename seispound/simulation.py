@@ -25,12 +25,14 @@ def prepare_ground_motion(model):
     spec = model.ground_motion
     if spec is None:
         return np.zeros(nsteps + 1), None
+    if spec.samples is not None:
+        return _prepare_samples(spec, an.dt, nsteps)
     try:
         st = spec.file.stat()
     except OSError:
         raise InputError("record file not found", file=spec.file, key="ground_motion.file") from None
     key = (str(spec.file), st.st_mtime_ns, st.st_size, spec.trace, spec.units, spec.calibration, spec.scale,
-           spec.baseline, an.dt, nsteps)
+           spec.baseline, spec.format, spec.dt, an.dt, nsteps)
     try:
         ag, prov = _read_prepared(*key)
     except _SettingError as err:
@@ -40,25 +42,43 @@ def prepare_ground_motion(model):
 
 
 @functools.lru_cache(maxsize=32)
-def _read_prepared(file, mtime_ns, size, trace, units, calibration, scale, baseline, dt, nsteps):
+def _read_prepared(file, mtime_ns, size, trace, units, calibration, scale, baseline, fmt, rec_dt, dt, nsteps):
     """Read and prepare a record once per (file version, settings): studies rerun the same record."""
     from .motion.record import on_analysis_grid, read_record
 
     path = Path(file)
+    stage = "ground_motion"  # a "dt" that does not fit is the record's own while reading, the analysis's after
     try:
-        rec = read_record(path, trace=trace, units=units, calibration=calibration, scale=scale)
+        rec = read_record(path, trace=trace, units=units, calibration=calibration, scale=scale, format=fmt,
+                          dt=rec_dt)
         if baseline is not None:
             rec = rec.baseline_corrected(order=baseline)
+        stage = "analysis"
         rec = on_analysis_grid(rec, dt, nsteps * dt)  # resampled, cut or zero-padded: each step in provenance
         ag = np.array(rec.acceleration)
     except InputError as err:
-        if err.key in ("units", "trace", "calibration", "scale", "baseline", "dt"):
+        if err.key in ("units", "trace", "calibration", "scale", "baseline", "dt", "format"):
             # a setting of the model file that does not fit the record
-            section = "analysis" if err.key == "dt" else "ground_motion"
+            section = stage if err.key == "dt" else "ground_motion"
             raise _SettingError(err.message, section, err.key, path.name) from None
         raise err.located(file=path) from None
     ag.setflags(write=False)
     return ag, dict(rec.provenance)
+
+
+def _prepare_samples(spec, dt, nsteps):
+    """A ground motion given in memory (GroundMotionSpec.from_array / from_trace) on the analysis grid."""
+    from .motion.record import on_analysis_grid, record_from_samples
+
+    try:
+        rec = record_from_samples(spec.samples, spec.dt, units=spec.units, calibration=spec.calibration,
+                                  scale=spec.scale, source=spec.source or "numpy array")
+        if spec.baseline is not None:
+            rec = rec.baseline_corrected(order=spec.baseline)
+        rec = on_analysis_grid(rec, dt, nsteps * dt)
+    except InputError as err:
+        raise InputError(err.message, file=err.file, key=f"ground_motion.{err.key}") from None
+    return np.array(rec.acceleration), dict(rec.provenance)
 
 
 class _SettingError(Exception):

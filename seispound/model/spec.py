@@ -53,14 +53,59 @@ class GroundMotionSpec:
         m/s^2 per count when units = "counts".
     baseline : int or None
         Order of the least-squares polynomial removed (None: none; 0 mean; 1 linear).
+    format : str, optional
+        ObsPy format name ("MSEED", "SAC", "PEER_AT2", ...) instead of detection,
+        or "text" for a one- or two-column text record.
+    dt : float, optional
+        Time step [s] of a one-column text record.
     """
 
-    file: Path
+    file: Path | None
     trace: object = 0
     units: str = "auto"
     scale: float = 1.0
     calibration: float | None = None
     baseline: int | None = None
+    format: str | None = None
+    dt: float | None = None
+    samples: object = None  # in-memory samples (from_array / from_trace); file is then None
+    source: str = ""
+
+    @classmethod
+    def from_array(cls, acceleration, dt: float, *, units: str, scale: float = 1.0, baseline=None,
+                   calibration=None, name: str = "numpy array") -> "GroundMotionSpec":
+        """A ground motion from samples in memory.
+
+        Parameters
+        ----------
+        acceleration : array_like, shape (npts,)
+            Ground acceleration in ``units``, sample i at t = i dt.
+        dt : float
+            Time step [s].
+        units : str
+            "g", "m/s2", "cm/s2", "mm/s2" or "counts" (required: an array has no units).
+        scale, baseline, calibration
+            As for a record file.
+        name : str
+            What the samples are (stored in the provenance).
+        """
+        import numpy as np
+
+        from ..motion.record import record_from_samples
+
+        # validate now (one line naming the key), keep a read-only copy of the samples as given
+        record_from_samples(acceleration, dt, units=units, calibration=calibration, scale=scale, source=name)
+        data = np.array(acceleration, dtype=float)
+        data.setflags(write=False)
+        return cls(file=None, units=units, scale=float(scale), calibration=calibration, baseline=baseline,
+                   format="memory", dt=float(dt), samples=data, source=name)
+
+    @classmethod
+    def from_trace(cls, trace, *, units: str, scale: float = 1.0, baseline=None,
+                   calibration=None) -> "GroundMotionSpec":
+        """A ground motion from an ``obspy.Trace`` (its data at ``trace.stats.delta``; units required)."""
+        return cls.from_array(trace.data, trace.stats.delta, units=units, scale=scale, baseline=baseline,
+                              calibration=calibration, name=f"obspy.Trace {trace.id}")
 
 
 @dataclass

@@ -21,7 +21,7 @@ __all__ = ["load_model", "parse_model", "read_toml"]
 _TOP = {"title", "description", "analysis", "ground_motion", "contact", "building", "gap"}
 _ANALYSIS = {"dt", "duration", "newmark", "contact_substeps", "rtol", "max_iter"}
 _NEWMARK = {"beta", "gamma"}
-_GROUND = {"file", "trace", "units", "scale", "calibration", "baseline"}
+_GROUND = {"file", "format", "dt", "trace", "units", "scale", "calibration", "baseline"}
 _BUILDING = {"name", "floors", "floor_masses", "storey_stiffness", "storey_heights", "damping",
              "initial_velocity"}
 _DAMPING = {"kind", "ratio", "modes"}
@@ -123,8 +123,15 @@ def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
         if baseline is not None and (not isinstance(baseline, int) or isinstance(baseline, bool)
                                      or not 0 <= baseline <= 3):
             raise InputError(f"must be a polynomial order 0..3, got {baseline!r}", key="ground_motion.baseline")
+        fmt = _record_format(g.get("format"))
+        rec_dt = g.get("dt")
+        if rec_dt is not None and (not _number(rec_dt) or not rec_dt > 0):
+            raise InputError(f"must be a time step > 0 in s, got {rec_dt!r}", key="ground_motion.dt")
+        if rec_dt is not None and fmt != "text":
+            raise InputError('is stated only for text records (format = "text"); other formats carry their own '
+                             "time step", key="ground_motion.dt")
         gm = GroundMotionSpec(file=fpath, trace=trace, units=units, scale=float(scale), calibration=cal,
-                              baseline=baseline)
+                              baseline=baseline, format=fmt, dt=rec_dt)
 
     # -- contact law ---------------------------------------------------------------
     law = None
@@ -194,6 +201,23 @@ def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
 
 
 # -- helpers ---------------------------------------------------------------------------
+def record_formats() -> list[str]:
+    """Names ``[ground_motion] format`` accepts: obspy's waveform formats (with PEER_AT2) and "text"."""
+    from obspy.core.util.base import ENTRY_POINTS
+
+    return sorted(ENTRY_POINTS["waveform"]) + ["text"]
+
+
+def _record_format(fmt):
+    if fmt is None:
+        return None
+    names = record_formats()
+    hits = [n for n in names if isinstance(fmt, str) and n.lower() == fmt.strip().lower()]
+    if not hits:
+        raise InputError(f"unknown record format {fmt!r}; one of: {', '.join(names)}", key="ground_motion.format")
+    return hits[0]
+
+
 def _number(x) -> bool:
     return isinstance(x, (int, float)) and not isinstance(x, bool)
 

@@ -29,7 +29,8 @@ import scipy.signal
 
 from seispound.errors import InputError
 
-__all__ = ["G_STANDARD", "Record", "read_record", "ground_acceleration", "on_analysis_grid", "UNIT_FACTORS"]
+__all__ = ["G_STANDARD", "Record", "read_record", "ground_acceleration", "on_analysis_grid",
+           "record_from_samples", "UNIT_FACTORS"]
 
 from seispound.motion.units import G_STANDARD, UNIT_FACTORS, _canonical_units
 
@@ -352,7 +353,7 @@ def _sha256(path) -> str:
 
 # ---------------------------------------------------------------------- reading
 def read_record(path, *, trace=0, units="auto", calibration=None, scale=1.0,
-                format=None) -> Record:
+                format=None, dt=None) -> Record:
     """Read one ground-acceleration component from a waveform file.
 
     Parameters
@@ -380,7 +381,11 @@ def read_record(path, *, trace=0, units="auto", calibration=None, scale=1.0,
         record to a target intensity.
     format : str, optional
         ObsPy format name (``"MSEED"``, ``"SAC"``, ``"PEER_AT2"``, ...) if
-        auto-detection should be bypassed.
+        auto-detection should be bypassed, or ``"text"`` for a one- or
+        two-column text record (:mod:`seispound.motion.text`; units required).
+    dt : float, optional
+        Time step [s] of a one-column text record (checked against the time
+        column of a two-column one); not used by other formats.
 
     Returns
     -------
@@ -395,8 +400,11 @@ def read_record(path, *, trace=0, units="auto", calibration=None, scale=1.0,
         or missing values; ``data``: non-finite samples or fewer than 2; plus
         the AT2 reader's own errors (``NPTS``, ``DT``, ``units``, ``data``).
     """
+    if isinstance(path, obspy.Trace):
+        return record_from_samples(path.data, path.stats.delta, units=units, calibration=calibration,
+                                   scale=scale, source=f"obspy.Trace {path.id}")
     if not isinstance(path, (str, os.PathLike)):
-        raise InputError(f"path must be a file name, got {path!r}", key="file")
+        raise InputError(f"path must be a file name or an obspy.Trace, got {path!r}", key="file")
     file = os.fspath(path)
     if not os.path.isfile(file):
         raise InputError("no such file" if not os.path.exists(file) else "not a regular file",
@@ -412,6 +420,11 @@ def read_record(path, *, trace=0, units="auto", calibration=None, scale=1.0,
         raise InputError(f"calibration applies only to units='counts', not {units!r}",
                          file=file, key="calibration")
 
+    if format is not None and str(format).lower() == "text":
+        return _read_text(file, trace, units, calibration, scale, dt)
+    if dt is not None:
+        raise InputError("dt is stated only for text records (format = \"text\"); other formats carry their "
+                         "own time step", file=file, key="dt")
     try:
         sha = _sha256(file)
         # obspy.read expands glob patterns; escape them so "[1].AT2" is one file.
@@ -423,7 +436,8 @@ def read_record(path, *, trace=0, units="auto", calibration=None, scale=1.0,
                          file=file, key="file") from None
     except Exception as err:  # any reader failure becomes one line, no traceback
         detail = " ".join(str(err).split()) or type(err).__name__
-        hint = "" if format else "; if it is a waveform file, name its format with format=..."
+        hint = "" if format else ('; if it is a waveform file, name its format ([ground_motion] format = "MSEED", '
+                                  '"SAC", ...; "text" for a one- or two-column text record)')
         raise InputError(f"ObsPy cannot read this file ({type(err).__name__}: {detail})"
                          f"{hint}", file=file, key="format") from None
     if len(stream) == 0:
@@ -481,6 +495,81 @@ def read_record(path, *, trace=0, units="auto", calibration=None, scale=1.0,
 #: Share of the new Nyquist frequency below which the decimation filter passes content
 #: with relative error ~1e-5 (the Kaiser FIR of :meth:`Record.resampled`).
 PASSBAND_SHARE = 0.8
+
+
+def record_from_samples(samples, dt, *, units, calibration=None, scale=1.0, source="numpy array") -> Record:
+    """A Record from samples in memory (a numpy array or an obspy.Trace's data) at step ``dt``.
+
+    Parameters
+    ----------
+    samples : array_like, shape (npts,)
+        Ground acceleration in ``units``; finite, at least 2 samples.
+    dt : float
+        Time step [s], > 0.
+    units : str
+        "g", "m/s2", "cm/s2", "mm/s2" or "counts" (with ``calibration``); required:
+        samples carry no units of their own.
+    calibration, scale : float, optional
+        As in :func:`read_record`.
+    source : str
+        What the samples are, for the provenance.
+
+    Returns
+    -------
+    Record
+        Provenance: ``source``, the sha256 of the float64 samples' bytes, every step.
+    """
+    key = source
+    units = _canonical_units(units, key)
+    if units == "auto":
+        raise InputError("samples in memory carry no units: state units = 'g', 'm/s2', 'cm/s2', 'mm/s2' or "
+                         "'counts'", file=key, key="units")
+    if np.ma.isMaskedArray(samples) and np.ma.count_masked(samples):
+        raise InputError("the samples have gaps (masked values)", file=key, key="data")
+    data = np.asarray(samples, dtype=np.float64)
+    if data.ndim != 1:
+        raise InputError(f"samples must be a 1-D array, got shape {data.shape}", file=key, key="data")
+    dt = _positive_finite(dt, "dt", key)
+    scale = _positive_finite(scale, "scale", key)
+    if units == "counts":
+        if calibration is None:
+            raise InputError("units='counts' needs calibration (m/s2 per count)", file=key, key="calibration")
+        calibration = _positive_finite(calibration, "calibration", key)
+    factor = calibration if units == "counts" else UNIT_FACTORS[units]
+    steps = [f"taken from {source} with {data.size} samples at dt={_fmt(dt)} s",
+             f"converted from {units} to m/s2 (x {_fmt(factor)})"]
+    if scale != 1.0:
+        steps.append(f"scaled by {_fmt(scale)}")
+    provenance = {"file": source, "sha256": hashlib.sha256(np.ascontiguousarray(data).tobytes()).hexdigest(),
+                  "format": "memory", "station": "", "component": "", "event": "", "date": "",
+                  "npts": int(data.size), "dt_original": dt, "units": units, "calibration": calibration,
+                  "scale": scale, "trace": source, "processing": steps}
+    return Record(data * (factor * scale), dt, provenance)
+
+
+def _read_text(file, trace, units, calibration, scale, dt) -> Record:
+    """A text record (:func:`seispound.motion.text.read_text_record`) as a Record with provenance."""
+    from seispound.motion.text import read_text_record
+
+    if units == "auto":
+        raise InputError("the units of a text record are not known; state them with units = 'g', 'm/s2', "
+                         "'cm/s2', 'mm/s2' or 'counts' (with calibration)", file=file, key="units")
+    if trace not in (0, None):
+        raise InputError(f"a text record holds one trace; got trace = {trace!r}", file=file, key="trace")
+    if dt is not None:
+        dt = _positive_finite(dt, "dt", file)
+    data, step, ncol = read_text_record(file, dt)
+    factor = calibration if units == "counts" else UNIT_FACTORS[units]
+    steps = [f"read {data.size} samples from {os.path.basename(file)} (text, {ncol} column"
+             f"{'s: time, acceleration' if ncol == 2 else ', dt stated'}) at dt={_fmt(step)} s",
+             f"converted from {units} to m/s2 (x {_fmt(factor)})"]
+    if scale != 1.0:
+        steps.append(f"scaled by {_fmt(scale)}")
+    provenance = {"file": file, "sha256": _sha256(file), "format": "text", "station": "", "component": "",
+                  "event": "", "date": "", "npts": int(data.size), "dt_original": step, "units": units,
+                  "calibration": calibration, "scale": scale, "trace": os.path.basename(file),
+                  "processing": steps}
+    return Record(data * (factor * scale), step, provenance)
 
 
 def on_analysis_grid(record: Record, dt: float, duration: float) -> Record:

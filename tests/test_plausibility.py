@@ -84,7 +84,6 @@ def test_duration_beyond_the_record_says_zero_padded(tmp_path):
 
 def _share_mode(m, k):
     """Mode number needed for 90 % of the effective modal mass, from dense M, K (Chopra Eq. 13.2.14)."""
-    n = m.size
     K = np.diag(np.r_[k[:-1] + k[1:], k[-1]]) - np.diag(k[1:], 1) - np.diag(k[1:], -1)
     w2, phi = eigh(K, np.diag(m))
     ln = phi.T @ m

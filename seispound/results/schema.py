@@ -1,13 +1,13 @@
 """The result Dataset of one run: schema, units, provenance.
 
-Schema ``seispound-result`` version 1 (``ds.attrs["schema_version"]``)
+Schema ``seispound-result`` version 2 (``ds.attrs["schema_version"]``)
 ---------------------------------------------------------------------------
 Dimensions
-    time (nt), building (nb), floor (max floors; absent floors are NaN),
+    time (nt), building (nb), floor (max floors; absent floors are NaN), mode (= floor count),
     gap (one per gap element = pair of floors at a common level),
     impact (one per impact, in order of onset), energy_component (5).
 Coordinates
-    time [s]; building (names, left to right); floor (1-based);
+    time [s]; building (names, left to right); floor (1-based); mode (1-based);
     floor_height(building, floor) [m]; gap (0-based);
     gap_left, gap_right (building names), gap_left_floor, gap_right_floor,
     gap_height [m], gap_size [m], gap_law (name); energy_component names.
@@ -21,10 +21,19 @@ Data variables (units in ``attrs["units"]``)
     peak_displacement_no_pounding(building, floor) [m], same, gaps disabled
     amplification(building, floor) [-], peak_displacement / peak_displacement_no_pounding
     peak_drift(building, floor) [m], max |drift| at the analysis instants
+    peak_acceleration, peak_acceleration_no_pounding (building, floor) [m/s^2]: max |absolute
+        floor acceleration| at the analysis instants; acceleration_amplification [1] their ratio
+    peak_drift_ratio, peak_drift_ratio_no_pounding (building, floor) [1]: max |drift| / storey
+        height of the storey below the floor; drift_ratio_amplification [1]
+    peak_storey_shear, peak_storey_shear_no_pounding (building, floor) [N]: max |k drift| of the
+        storey below the floor (spring force; dashpot excluded); storey_shear_amplification [1]
+    period(building, mode) [s], fixed-base natural periods (NaN beyond a building's floors)
+    (see :mod:`seispound.results.peaks`; with ``twin=False`` the no-pounding values are NaN)
     peak_pounding_force(gap) [N], over every substep
     impact_count(gap) [-]
     impact_gap(impact), impact_onset(impact) [s], impact_approach_velocity(impact) [m/s],
-    impact_separation_velocity(impact) [m/s], impact_restitution(impact) [-],
+    impact_separation_velocity(impact) [m/s], impact_velocity_ratio(impact) [-] (separation /
+    approach: an MDoF impact's apparent restitution, not the law's e),
     impact_peak_force(impact) [N], impact_duration(impact) [s], impact_damping(impact)
     ground_acceleration(time) [m/s^2]
     energy(time, energy_component) [J]: input, kinetic, strain, damping, contact
@@ -42,8 +51,10 @@ import json
 import numpy as np
 import xarray as xr
 
+from .peaks import amplifications, dof_peaks, storey_arrays
+
 SCHEMA = "seispound-result"
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 
 ENERGY_COMPONENTS = ["input", "kinetic", "strain", "damping", "contact"]
 
@@ -75,23 +86,39 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
     vel[:, b_of, f_of] = raw.velocity
     acc[:, b_of, f_of] = raw.acceleration
     # drift per DOF: floor minus the floor below (the ground below the first)
-    below = np.full(system.n_dof, -1)
-    below[f_of > 0] = np.flatnonzero(f_of > 0) - 1
-    drift_dof = raw.displacement.copy()
-    drift_dof[:, f_of > 0] -= raw.displacement[:, below[f_of > 0]]
+    below, storey_h, storey_k = storey_arrays(system, model.buildings)
+    drift_dof = raw.displacement - np.where(below >= 0, raw.displacement[:, np.maximum(below, 0)], 0.0)
     drift[:, b_of, f_of] = drift_dof
-    peak = _per_floor(raw.peak_displacement, system, nb, nfmax)
-    peak0 = _per_floor(raw_twin.peak_displacement, system, nb, nfmax)
-    peak_drift = _per_floor(np.max(np.abs(drift_dof), axis=0, initial=0.0), system, nb, nfmax)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        amp = np.where(peak0 > 0, peak / peak0, np.nan)
+    peaks = dof_peaks(raw, below, storey_h, storey_k)
+    peaks0 = None if raw_twin is None else dof_peaks(raw_twin, below, storey_h, storey_k)
+    amps = amplifications(peaks, peaks0)
+    nan = np.full(system.n_dof, np.nan)
+    peak = _per_floor(peaks["displacement"], system, nb, nfmax)
+    peak0 = _per_floor(nan if peaks0 is None else peaks0["displacement"], system, nb, nfmax)
+    peak_drift = _per_floor(peaks["drift"], system, nb, nfmax)
+    amp = _per_floor(amps["displacement"], system, nb, nfmax)
+    engineering = {}
+    for name, units, what in (("acceleration", "m/s^2", "peak |absolute floor acceleration| (analysis instants)"),
+                              ("drift_ratio", "1", "peak |inter-storey drift| / storey height (storey below)"),
+                              ("storey_shear", "N", "peak |storey shear| = storey spring force k x drift "
+                                                    "(storey below; dashpot force excluded)")):
+        engineering[f"peak_{name}"] = (_per_floor(peaks[name], system, nb, nfmax), units, f"{what}, with pounding")
+        engineering[f"peak_{name}_no_pounding"] = (
+            _per_floor(nan if peaks0 is None else peaks0[name], system, nb, nfmax), units,
+            f"{what}, without pounding (gaps disabled)")
+        engineering[f"{name}_amplification"] = (_per_floor(amps[name], system, nb, nfmax), "1",
+                                                f"{name.replace('_', ' ')} amplification: peak with pounding / "
+                                                "peak without")
+    periods = np.full((nb, nfmax), np.nan)
+    for i, b in enumerate(model.buildings):
+        periods[i, : b.n_floors] = b.periods
 
     links = system.links
     ng = len(links)
     imp = raw.impacts
     ni = imp["gap"].size
     with np.errstate(divide="ignore", invalid="ignore"):
-        restitution = np.where(imp["v0"] > 0, imp["vout"] / imp["v0"], np.nan)
+        velocity_ratio = np.where(imp["v0"] > 0, imp["vout"] / imp["v0"], np.nan)
     counts = np.bincount(imp["gap"], minlength=ng) if ng else np.zeros(0, int)
 
     def var(dims, data, units, long_name, **extra):
@@ -113,7 +140,9 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
             amplification=var(("building", "floor"), amp, "1",
                               "displacement amplification: peak with pounding / peak without"),
             peak_drift=var(("building", "floor"), peak_drift, "m",
-                           "peak |inter-storey drift|"),
+                           "peak |inter-storey drift| (analysis instants)"),
+            **{name: var(("building", "floor"), data, units, what) for name, (data, units, what) in engineering.items()},
+            period=var(("building", "mode"), periods, "s", "fixed-base natural period"),
             peak_pounding_force=var(("gap",), raw.peak_force, "N", "peak pounding force"),
             impact_count=var(("gap",), counts.astype(np.int64), "1", "number of impacts"),
             impact_gap=var(("impact",), imp["gap"].astype(np.int64), "1", "gap element of the impact"),
@@ -122,8 +151,10 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
                                          "relative approach velocity at first contact"),
             impact_separation_velocity=var(("impact",), imp["vout"], "m/s",
                                            "relative separation velocity when the gap reopens"),
-            impact_restitution=var(("impact",), restitution, "1",
-                                   "achieved coefficient of restitution (separation / approach)"),
+            impact_velocity_ratio=var(("impact",), velocity_ratio, "1",
+                                      "separation / approach velocity of the two floors (an MDoF impact's "
+                                      "apparent restitution: storey forces act during contact, so it may lie "
+                                      "outside [0, 1]; not the law's e)"),
             impact_peak_force=var(("impact",), imp["fmax"], "N", "peak force of the impact"),
             impact_duration=var(("impact",), imp["dur"], "s", "contact duration (NaN if still in contact)"),
             impact_damping=var(("impact",), imp["zeta"], "law-dependent",
@@ -137,6 +168,7 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
             time=("time", raw.time, {"units": "s", "long_name": "time"}),
             building=("building", np.array(b_names, dtype=object), {"long_name": "building, left to right"}),
             floor=("floor", np.arange(1, nfmax + 1), {"long_name": "floor number (1 = first above ground)"}),
+            mode=("mode", np.arange(1, nfmax + 1), {"long_name": "mode number (1 = fundamental)"}),
             floor_height=(("building", "floor"), heights, {"units": "m", "long_name": "floor elevation"}),
             gap=("gap", np.arange(ng), {"long_name": "gap element"}),
             gap_left=("gap", np.array([b_names[l.left] for l in links], dtype=object),

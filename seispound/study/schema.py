@@ -1,6 +1,6 @@
 """The study store: one HDF5 file (netCDF-4 via h5netcdf) holding a labelled cube of runs.
 
-Schema ``seispound-study`` version 1 (``ds.attrs["schema_version"]``)
+Schema ``seispound-study`` version 2 (``ds.attrs["schema_version"]``)
 ---------------------------------------------------------------------------
 Dimensions
     record (nr)
@@ -26,6 +26,12 @@ Data variables (dims = run dims + the trailing ones shown; units in ``attrs["uni
     peak_displacement (..., building, floor) [m]
     peak_displacement_no_pounding (..., building, floor) [m]
     peak_drift (..., building, floor) [m]
+    peak_acceleration, peak_acceleration_no_pounding [m/s^2], acceleration_amplification [1],
+    peak_drift_ratio, peak_drift_ratio_no_pounding, drift_ratio_amplification [1],
+    peak_storey_shear, peak_storey_shear_no_pounding [N], storey_shear_amplification [1]
+        (..., building, floor): as in the single-run schema (:mod:`seispound.results.peaks`)
+    max_acceleration_amplification, max_drift_ratio_amplification, max_storey_shear_amplification [1],
+    max_peak_acceleration [m/s^2], max_peak_drift_ratio [1] (run dims): maxima over building and floor
     peak_pounding_force (..., gap) [N]
     impact_count (..., gap) int64 (-1 where the run is not done)
     max_amplification (run dims) [1]: max over building and floor
@@ -47,7 +53,7 @@ Values of runs that are not done (failed or not run yet) are NaN for floats.
 from __future__ import annotations
 
 SCHEMA = "seispound-study"
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 
 STATUS_DONE = 1
 STATUS_FAILED = 0
@@ -61,9 +67,21 @@ SUMMARY_VARIABLES = [
     ("peak_displacement_no_pounding", ("building", "floor"), "m",
      "peak |displacement| without pounding (gaps disabled)", "f8"),
     ("peak_drift", ("building", "floor"), "m", "peak |inter-storey drift|", "f8"),
+    *[(f"{prefix}{name}{suffix}", ("building", "floor"), units, f"{what}{tail}", "f8")
+      for name, units, what in (("acceleration", "m/s^2", "peak |absolute floor acceleration|"),
+                                ("drift_ratio", "1", "peak |inter-storey drift| / storey height"),
+                                ("storey_shear", "N", "peak |storey shear| (spring force k x drift)"))
+      for prefix, suffix, tail, units in (("peak_", "", ", with pounding", units),
+                                          ("peak_", "_no_pounding", ", without pounding", units),
+                                          ("", "_amplification", ": with pounding / without", "1"))],
     ("peak_pounding_force", ("gap",), "N", "peak pounding force", "f8"),
     ("impact_count", ("gap",), "1", "number of impacts", "i8"),
     ("max_amplification", (), "1", "largest amplification over buildings and floors", "f8"),
+    ("max_acceleration_amplification", (), "1", "largest floor acceleration amplification", "f8"),
+    ("max_drift_ratio_amplification", (), "1", "largest drift ratio amplification", "f8"),
+    ("max_storey_shear_amplification", (), "1", "largest storey shear amplification", "f8"),
+    ("max_peak_acceleration", (), "m/s^2", "largest peak absolute floor acceleration, with pounding", "f8"),
+    ("max_peak_drift_ratio", (), "1", "largest peak drift ratio, with pounding", "f8"),
     ("max_pounding_force", (), "N", "largest peak pounding force over the gap elements", "f8"),
     ("total_impacts", (), "1", "number of impacts, all gap elements", "i8"),
 ]

@@ -35,28 +35,34 @@ def _per_floor(values, study):
     return out
 
 
+def _storeys(model, system):
+    from ..results.peaks import storey_arrays
+
+    return storey_arrays(system, model.buildings)
+
+
 def twin_task(study, index: int) -> dict:
-    """Peak |displacement| per DOF without pounding for the twin group of run ``index`` [m], or its error."""
+    """The no-pounding twin of run ``index``'s group: its peaks per DOF (results/peaks.py), or its error."""
     from ..integrate import integrate
+    from ..results.peaks import dof_peaks
     from ..simulation import prepare_ground_motion
-    from ..structure import assemble
 
     try:
         model = study.model_for(index)
-        system = assemble(model.buildings, model.gaps, model.contact)
+        system = model.assembled()
         ag, _ = prepare_ground_motion(model)
         an = model.analysis
-        raw = integrate(system.without_contact(), ag, an.dt, an.nsteps, an.newmark, store_history=False)
-        return {"peak": raw.peak_displacement.copy(), "error": ""}
+        raw = integrate(system.without_contact(), ag, an.dt, an.nsteps, an.newmark)
+        return {"peaks": dof_peaks(raw, *_storeys(model, system)), "error": ""}
     except Exception as exc:  # a bad record fails every run of its group, not the study
-        return {"peak": None, "error": _error_text(exc)}
+        return {"peaks": None, "error": _error_text(exc)}
 
 
 def run_one(study, index: int, twin: dict) -> dict:
     """Run ``index`` of the study: its summaries (and kept histories) as arrays, or its error."""
     from ..integrate import integrate
+    from ..results.peaks import amplifications, dof_peaks
     from ..simulation import prepare_ground_motion
-    from ..structure import assemble
 
     out = {"index": int(index), "status": STATUS_FAILED, "error": ""}
     if twin.get("error"):
@@ -64,37 +70,41 @@ def run_one(study, index: int, twin: dict) -> dict:
         return out
     try:
         model = study.model_for(index)
-        system = assemble(model.buildings, model.gaps, model.contact)
+        system = model.assembled()
         ag, _ = prepare_ground_motion(model)
         an = model.analysis
         raw = integrate(system, ag, an.dt, an.nsteps, an.newmark)
     except Exception as exc:
         out["error"] = _error_text(exc)
         return out
+    below, height, stiff = _storeys(model, system)
     u = raw.displacement
-    floors = np.concatenate([np.arange(n) for n in study.meta["floors"]])
-    drift = u.copy()
-    lower = np.flatnonzero(floors > 0)
-    drift[:, lower] -= u[:, lower - 1]
-    peak = raw.peak_displacement
-    peak0 = twin["peak"]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        amp = np.where(peak0 > 0, peak / peak0, np.nan)
+    drift = u - np.where(below >= 0, u[:, np.maximum(below, 0)], 0.0)
+    peaks = dof_peaks(raw, below, height, stiff)
+    peaks0 = twin["peaks"]
+    amps = amplifications(peaks, peaks0)
     ng = raw.force.shape[1]
     counts = np.bincount(raw.impacts["gap"], minlength=ng).astype(np.int64)
-    amp_f = _per_floor(amp, study)
+    amp_f = _per_floor(amps["displacement"], study)
     out.update(
         status=STATUS_DONE,
         amplification=amp_f,
-        peak_displacement=_per_floor(peak, study),
-        peak_displacement_no_pounding=_per_floor(peak0, study),
-        peak_drift=_per_floor(np.max(np.abs(drift), axis=0, initial=0.0), study),
+        peak_displacement=_per_floor(peaks["displacement"], study),
+        peak_displacement_no_pounding=_per_floor(peaks0["displacement"], study),
+        peak_drift=_per_floor(peaks["drift"], study),
         peak_pounding_force=raw.peak_force.astype(float),
         impact_count=counts,
-        max_amplification=float(np.nanmax(amp_f)) if np.isfinite(amp_f).any() else float("nan"),
+        max_amplification=_nanmax(amp_f),
         max_pounding_force=float(raw.peak_force.max(initial=0.0)),
         total_impacts=int(counts.sum()),
     )
+    for name in ("acceleration", "drift_ratio", "storey_shear"):
+        out[f"peak_{name}"] = _per_floor(peaks[name], study)
+        out[f"peak_{name}_no_pounding"] = _per_floor(peaks0[name], study)
+        out[f"{name}_amplification"] = _per_floor(amps[name], study)
+        out[f"max_{name}_amplification"] = _nanmax(out[f"{name}_amplification"])
+    out["max_peak_acceleration"] = float(peaks["acceleration"].max(initial=0.0))
+    out["max_peak_drift_ratio"] = float(peaks["drift_ratio"].max(initial=0.0))
     if study.histories:
         k = slice(None, None, study.decimate)
         hist = {"displacement": u, "velocity": raw.velocity, "acceleration": raw.acceleration, "drift": drift}
@@ -106,6 +116,10 @@ def run_one(study, index: int, twin: dict) -> dict:
                 kept[name] = _per_floor(hist[name][k], study)
         out["histories"] = kept
     return out
+
+
+def _nanmax(values) -> float:
+    return float(np.nanmax(values)) if np.isfinite(values).any() else float("nan")
 
 
 def chunk_task(study, indices, twin: dict) -> list:

@@ -49,7 +49,7 @@ def written(ds, tmp_path_factory):
 
 # -- schema ---------------------------------------------------------------------------------
 def test_dimensions(ds):
-    assert set(ds.dims) == {"time", "building", "floor", "gap", "impact", "energy_component"}
+    assert set(ds.dims) == {"time", "building", "floor", "mode", "gap", "impact", "energy_component"}
     assert ds.sizes["time"] == round(DURATION / DT) + 1
     assert ds.sizes["building"] == 2
     assert ds.sizes["floor"] == 8
@@ -81,7 +81,7 @@ def test_every_data_variable_has_units_and_long_name(ds):
 
 def test_attributes(ds, model_path):
     assert ds.attrs["schema"] == "seispound-result"
-    assert ds.attrs["schema_version"] == 1
+    assert ds.attrs["schema_version"] == 2
     assert ds.attrs["seispound_version"] == seispound.__version__
     assert ds.attrs["model_text"] == model_path.read_text(encoding="utf-8")
     assert ds.attrs["title"] == "Two buildings of different height, El Centro 1940, Hd contact"

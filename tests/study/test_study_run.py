@@ -51,13 +51,19 @@ def test_cli_study_store_matches_single_runs(reference_store):
                              ("elcentro_180", "LVe", 1.6e8, 0.02)]:
         one = single_run(study_file.parent, rec, law, k, gap)
         pt = ds.sel(record=rec, law=law, gap_size=gap)
-        for var in ("amplification", "peak_displacement", "peak_displacement_no_pounding", "peak_drift"):
+        for var in ("amplification", "peak_displacement", "peak_displacement_no_pounding", "peak_drift",
+                    *(f"{p}{q}{s}" for q in ("acceleration", "drift_ratio", "storey_shear")
+                      for p, s in (("peak_", ""), ("peak_", "_no_pounding"), ("", "_amplification")))):
             np.testing.assert_allclose(pt[var].values, one[var].values, rtol=1e-12, equal_nan=True, err_msg=var)
         np.testing.assert_allclose(pt.peak_pounding_force.values, one.peak_pounding_force.values, rtol=1e-12)
         assert pt.impact_count.values.tolist() == one.impact_count.values.tolist()
         assert int(pt.total_impacts) == int(one.impact_count.sum()) > 0
         assert float(pt.max_amplification) == pytest.approx(float(one.amplification.max()), rel=1e-12)
         assert float(pt.max_pounding_force) == pytest.approx(float(one.peak_pounding_force.max()), rel=1e-12)
+        for q in ("acceleration", "drift_ratio", "storey_shear"):
+            assert float(pt[f"max_{q}_amplification"]) == pytest.approx(float(one[f"{q}_amplification"].max()),
+                                                                         rel=1e-12)
+        assert float(pt.max_peak_acceleration) == pytest.approx(float(one.peak_acceleration.max()), rel=1e-12)
     # closing the gap changes the answer: the store is not one run repeated
     assert ds.total_impacts.sel(gap_size=0.005).sum() > ds.total_impacts.sel(gap_size=0.02).sum()
 

@@ -1,0 +1,89 @@
+"""The peak response quantities engineers report, with and without pounding: one code path.
+
+``simulate`` (the result Dataset) and the study worker (the study store) both
+call :func:`dof_peaks` on each run and :func:`amplifications` on a run and its
+no-pounding twin, so the two can never disagree.
+
+Quantities, per degree of freedom (a floor; the storey is the one below it):
+
+``displacement`` [m]
+    max |u| relative to the ground over every step taken (the kernel's own peak).
+``acceleration`` [m/s^2]
+    max |a| of the absolute floor acceleration at the analysis instants, as a
+    recording sampled at 1/dt would give it: an impact spike shorter than dt is
+    under-sampled (refine ``analysis.dt`` to resolve it).
+``drift`` [m], ``drift_ratio`` [1]
+    max |u_i - u_(i-1)| (the ground below floor 1) at the analysis instants, and
+    the same divided by the storey height (storey drift and drift ratio as in
+    ASCE 7-22 Sec. 12.8.6).
+``storey_shear`` [N]
+    max |k_i (u_i - u_(i-1))|, the force in the storey's spring: the elastic storey
+    shear of a shear building (Chopra, Dynamics of Structures, 4th ed., Ch. 13:
+    the storey shears of the equivalent static forces equal k times drift).  The stiffness-
+    proportional dashpot force is left out, as design storey shears leave it out.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["PEAKS", "dof_peaks", "amplifications", "storey_arrays"]
+
+#: (name, units, long name) of each peak quantity, per DOF.
+PEAKS = [
+    ("displacement", "m", "peak |displacement| relative to the ground"),
+    ("acceleration", "m/s^2", "peak |absolute floor acceleration| at the analysis instants"),
+    ("drift", "m", "peak |inter-storey drift| of the storey below the floor"),
+    ("drift_ratio", "1", "peak |inter-storey drift| / storey height of the storey below the floor"),
+    ("storey_shear", "N", "peak |storey shear| (storey spring force k x drift) of the storey below the floor"),
+]
+
+
+def storey_arrays(system, buildings) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per DOF: index of the DOF below (-1: the ground), storey height [m], storey stiffness [N/m]; (n,) each."""
+    n = system.n_dof
+    f0 = system.dof_floor - 1
+    below = np.where(f0 > 0, np.arange(n) - 1, -1)
+    height = np.array([buildings[b].storey_heights[f] for b, f in zip(system.dof_building, f0)], float)
+    stiff = np.array([buildings[b].storey_stiffness[f] for b, f in zip(system.dof_building, f0)], float)
+    return below, height, stiff
+
+
+def dof_peaks(raw, below, height, stiff) -> dict:
+    """Peak quantities of one run per DOF (module docstring), from its histories.
+
+    Parameters
+    ----------
+    raw : RawResult
+        With histories (``store_history=True``).
+    below, height, stiff : ndarray, shape (n,)
+        From :func:`storey_arrays`.
+
+    Returns
+    -------
+    dict of name -> ndarray (n,)
+    """
+    u = raw.displacement
+    drift = u - np.where(below >= 0, u[:, np.maximum(below, 0)], 0.0)
+    peak_drift = np.max(np.abs(drift), axis=0, initial=0.0)
+    return {
+        "displacement": np.asarray(raw.peak_displacement, float).copy(),
+        "acceleration": np.max(np.abs(raw.acceleration), axis=0, initial=0.0),
+        "drift": peak_drift,
+        "drift_ratio": peak_drift / height,
+        "storey_shear": np.max(np.abs(drift * stiff), axis=0, initial=0.0),
+    }
+
+
+def amplifications(peaks: dict, peaks_twin: dict | None) -> dict:
+    """Each peak with pounding over the same without, per DOF (NaN where the twin's peak is 0 or absent)."""
+    out = {}
+    for name, _, _ in PEAKS:
+        p = peaks[name]
+        p0 = None if peaks_twin is None else peaks_twin[name]
+        if p0 is None:
+            out[name] = np.full_like(p, np.nan)
+            continue
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out[name] = np.where(p0 > 0, p / p0, np.nan)
+    return out

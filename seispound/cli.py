@@ -184,11 +184,39 @@ def summary(ds, out=None) -> str:
         lines.append(f"  largest amplification {float(amp.max()):.3f} at building {b}, floor {f} "
                      f"(peak {float(ds.peak_displacement.sel(building=b, floor=f)) * 100:.2f} cm with pounding, "
                      f"{float(ds.peak_displacement_no_pounding.sel(building=b, floor=f)) * 100:.2f} cm without)")
+    lines += _engineering_lines(ds)
     for finding in json.loads(ds.attrs.get("plausibility", "[]")):
         lines.append(f"  warning: {finding['message']}")
     if out is not None:
         lines.append(f"  written to {out}")
     return "\n".join(lines)
+
+
+def _engineering_lines(ds) -> list[str]:
+    """Per building: fixed-base periods, and the largest peak acceleration, drift ratio and storey shear
+    with and without pounding (floor where the largest with pounding occurs)."""
+    import numpy as np
+
+    if "peak_acceleration" not in ds:
+        return []
+    out = ["  building  periods [s]           quantity (largest over floors)   with     without   ratio  floor"]
+    rows = (("peak_acceleration", "floor acceleration [g]", 1 / 9.80665, ".3f"),
+            ("peak_drift_ratio", "drift ratio [%]", 100.0, ".3f"), ("peak_storey_shear", "storey shear [kN]", 1e-3,
+                                                                     ".0f"))
+    for b in ds.building.values:
+        periods = ds.period.sel(building=b).values
+        periods = periods[np.isfinite(periods)][:3]
+        head = f"  {b:<8}  {', '.join(f'{t:.3g}' for t in periods):<20}"
+        for i, (var, label, scale, fmt) in enumerate(rows):
+            w = ds[var].sel(building=b).values
+            if not np.isfinite(w).any():
+                continue
+            f = int(np.nanargmax(w))
+            without = float(ds[f"{var}_no_pounding"].sel(building=b).values[f])
+            ratio = w[f] / without if without > 0 else float("nan")
+            out.append(f"{head if i == 0 else ' ' * len(head)}  {label:<31} {w[f] * scale:>8{fmt}}  "
+                       f"{without * scale:>8{fmt}}  {ratio:>6.2f}  {int(ds.floor.values[f]):>5}")
+    return out
 
 
 def _laws() -> int:

@@ -125,6 +125,18 @@ class Model:
     source: str | None = None  # path of the model file
     text: str | None = None  # its text, stored in the results
 
+    def gap(self, a: str, b: str):
+        """The :class:`~seispound.structure.Gap` between buildings ``a`` and ``b`` (either order).
+
+        ``model.gap("A", "B").size = 0.05`` widens that gap; InputError (key ``gap``)
+        listing the gaps there are if none joins the two.
+        """
+        for g in self.gaps:
+            if isinstance(g.between, (list, tuple)) and sorted(g.between) == sorted((a, b)):
+                return g
+        have = ", ".join("|".join(g.between) for g in self.gaps) or "none"
+        raise InputError(f"no gap between {a} and {b}; gaps: {have}", file=self.source, key="gap")
+
     def validate(self) -> None:
         """Check every part of the model as the file reader does; InputError naming the file and key."""
         self.assembled()

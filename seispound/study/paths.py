@@ -2,6 +2,7 @@
 
 A path walks the TOML tables of a model file.  Arrays of tables are indexed
 1-based (``gap.1.size``), buildings also by name (``building.A.storey_stiffness``),
+gaps also by the names of the buildings they join (``gap.A|B.size``, either order),
 and ``*`` stands for every entry (``gap.*.size``: all gaps at once).
 Examples: ``contact.law``, ``contact.restitution``, ``ground_motion.scale``,
 ``analysis.dt``, ``building.B.damping.ratio``.
@@ -61,6 +62,14 @@ def _entries(items: list, sel: str, part: str, path: str) -> list[dict]:
         if not 1 <= k <= len(items):
             raise InputError(f"the model file has {len(items)} [[{part}]] entries (1-based index)", key=path)
         return [items[k - 1]]
+    if part == "gap" and "|" in sel:  # gap.A|B: the gap whose `between` names both
+        pair = sorted(x.strip() for x in sel.split("|"))
+        hits = [t for t in items if isinstance(t, dict) and isinstance(t.get("between"), list)
+                and sorted(t["between"]) == pair]
+        if hits:
+            return hits
+        have = ", ".join("|".join(map(str, t.get("between", []))) for t in items if isinstance(t, dict))
+        raise InputError(f"no gap between {' and '.join(pair)} (gaps: {have})", key=path)
     name_key = _ARRAYS[part]
     if name_key:
         hits = [t for t in items if isinstance(t, dict) and t.get(name_key) == sel]
@@ -68,7 +77,8 @@ def _entries(items: list, sel: str, part: str, path: str) -> list[dict]:
             return hits
         names = ", ".join(str(t.get(name_key)) for t in items if isinstance(t, dict))
         raise InputError(f"no {part} named {sel!r} (have: {names})", key=path)
-    raise InputError(f"[[{part}]] entries are chosen by 1-based index or *, got {sel!r}", key=path)
+    raise InputError(f"[[{part}]] entries are chosen by 1-based index, * or the buildings' names (gap.A|B), "
+                     f"got {sel!r}", key=path)
 
 
 def get_value(data: dict, path: str):

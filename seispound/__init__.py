@@ -23,7 +23,7 @@ from .errors import InputError
 _LAZY = {
     "Model": ".model", "Analysis": ".model", "GroundMotionSpec": ".model", "load_model": ".model",
     "simulate": ".simulation", "write_result": ".results", "open_result": ".results",
-    "normalised_error": ".results",
+    "normalised_error": ".results", "response_spectrum": ".spectra", "floor_spectrum": ".spectra",
     "load_study": ".study", "run_study": ".study", "open_study": ".study.query",
 }
 

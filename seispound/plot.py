@@ -29,12 +29,12 @@ from pathlib import Path
 from .errors import InputError
 
 __all__ = [
-    "study_amplification", "study_force", "run_histories",
-    "study_amplification_figure", "study_force_figure", "run_histories_figure",
+    "study_amplification", "study_force", "run_histories", "run_spectra",
+    "study_amplification_figure", "study_force_figure", "run_histories_figure", "spectra_figure",
     "save_figure", "add_plot_parser", "cmd_plot", "KINDS",
 ]
 
-KINDS = ("amplification", "force", "histories")
+KINDS = ("amplification", "force", "histories", "spectrum")
 DPI = 150
 STUDY_FIGSIZE = (9.0, 5.0)    # inches: 1350 x 750 px at 150 dpi
 RUN_FIGSIZE = (10.0, 7.0)     # inches: 1500 x 1050 px at 150 dpi
@@ -632,8 +632,8 @@ def _plot_file(ds, args):
     kind = args.kind or ("amplification" if study else "histories")
     if kind not in KINDS:
         raise InputError(f"unknown kind {kind!r}; choose from {', '.join(KINDS)}", key="--kind")
-    if study != (kind != "histories"):
-        wanted = "amplification or force" if study else "histories"
+    if study != (kind not in ("histories", "spectrum")):
+        wanted = "amplification or force" if study else "histories or spectrum"
         raise InputError(f"a {schema} file gives --kind {wanted}, not {kind}", key="--kind")
     if study:
         if args.floors:
@@ -646,6 +646,8 @@ def _plot_file(ds, args):
             raise InputError(f"--{option} is for study stores", key=f"--{option}")
     if args.over != "record":
         raise InputError("--over is for study stores", key="--over")
+    if kind == "spectrum":
+        return run_spectra(ds.load(), args.floors or None, out=args.output)
     return run_histories(ds.load(), args.floors or None, out=args.output)
 
 
@@ -660,3 +662,52 @@ def cmd_plot(args) -> int:
             raise err.located(file=path) from None
     print(f"written {png} and {svg}")
     return 0
+
+
+# --------------------------------------------------------------------------- response spectra
+
+def spectra_figure(spectra, title=None):
+    """PSA [g] against period [s] (log x) of several spectra (``seispound.spectra``), one line each.
+
+    Parameters
+    ----------
+    spectra : sequence of (label, xarray.DataArray)
+        Pseudo-spectral accelerations [m/s^2] on dimension ``period``.
+    title : str, optional
+        Default: "Pseudo-acceleration response spectra, <damping> damping".
+    """
+    fig = _new_figure(STUDY_FIGSIZE)
+    ax = fig.add_subplot()
+    damping = None
+    for label, da in spectra:
+        ax.plot(da.period.values, da.values / 9.80665, label=label)
+        damping = da.attrs.get("damping", damping)
+    ax.set_xscale("log")
+    ax.set_xlabel("period [s]")
+    ax.set_ylabel("pseudo-spectral acceleration [g]")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize="small")
+    what = f", {damping:.0%} damping" if damping is not None else ""
+    ax.set_title(title or f"Pseudo-acceleration response spectra{what}", fontsize="medium")
+    return fig
+
+
+def run_spectra(ds, floors=None, *, out, periods=None, damping=0.05):
+    """Floor response spectra of a single run (with pounding): the ground and each chosen floor.
+
+    ``floors``: (building, floor) pairs or "B:F" texts (default: both sides of the busiest gap element).
+    Returns the PNG and SVG paths.
+    """
+    from .spectra import floor_spectrum
+
+    _out_paths(out)  # an unwritable output costs no work
+    chosen = _check_floors(ds, floors) if floors else default_floors(ds)
+    curves = [("ground", floor_spectrum(ds, chosen[0][0], 0, periods, damping))]
+    curves += [(f"{b} floor {f}", floor_spectrum(ds, b, f, periods, damping)) for b, f in chosen]
+    where = ", ".join(f"{b} floor {f}" for b, f in chosen)
+    fig = spectra_figure(curves, title=f"{ds.attrs.get('title', '')}\nFloor response spectra ({damping:.0%} "
+                                      f"damping): ground, {where}")
+    try:
+        return save_figure(fig, out)
+    finally:
+        _close(fig)

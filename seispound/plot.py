@@ -37,7 +37,7 @@ __all__ = [
 KINDS = ("amplification", "force", "histories", "spectrum")
 DPI = 150
 STUDY_FIGSIZE = (9.0, 5.0)    # inches: 1350 x 750 px at 150 dpi
-RUN_FIGSIZE = (10.0, 7.0)     # inches: 1500 x 1050 px at 150 dpi
+RUN_FIGSIZE = (10.0, 9.0)     # inches: 1500 x 1350 px at 150 dpi (three panels)
 STATUS_DONE = 1               # mirrors seispound.study.schema.STATUS_DONE (kept import-free)
 
 
@@ -472,15 +472,22 @@ def _gaps_at(ds, floors):
             or (str(ds.gap_right.values[g]), int(ds.gap_right_floor.values[g])) in chosen]
 
 
+#: Runs shorter than this [s] (impact tests) get their time axis in ms.
+MS_BELOW = 1.0
+
+
 def run_histories_figure(ds, floors=None):
     """Build (not save) the history figure of one run; see :func:`run_histories`.
 
     Returns
     -------
     matplotlib.figure.Figure
-        Two Axes (displacement, force). Displacement lines are labelled
-        ``"A floor 4"``, force lines ``"gap 3: A 4 | B 4"``, and the impact markers
-        of gap g carry the label ``"_impacts gap g"``.
+        Three Axes: displacement; relative displacement of each gap element's two floors
+        (u_left - u_right) against its at-rest size, so the closing gap shows; pounding force.
+        Displacement lines are labelled ``"A floor 4"``, relative displacement lines
+        ``"u_A4 - u_B4 (gap 3)"`` with the gap size as a dashed line ``"_size gap 3"``,
+        force lines ``"gap 3: A 4 | B 4"``, and the impact markers of gap g ``"_impacts gap g"``.
+        Runs shorter than ``MS_BELOW`` (impact tests) use ms on the time axis.
     """
     import numpy as np
     from matplotlib.lines import Line2D
@@ -490,9 +497,12 @@ def run_histories_figure(ds, floors=None):
     floors = _check_floors(ds, default_floors(ds) if floors is None else floors)
     gaps = _gaps_at(ds, floors)
     t = ds.time.values
+    ms = t[-1] < MS_BELOW
+    scale_t, t_unit = (1e3, "ms") if ms else (1.0, "s")
+    t = t * scale_t
 
     fig = _new_figure(RUN_FIGSIZE)
-    ax_u, ax_f = fig.subplots(2, 1, sharex=True)
+    ax_u, ax_d, ax_f = fig.subplots(3, 1, sharex=True)
     for i, (name, floor) in enumerate(floors):
         u = ds.displacement.sel(building=name, floor=floor).values * 100.0  # m -> cm
         ax_u.plot(t, u, color=f"C{i % 10}", linewidth=0.9, label=f"{name} floor {floor}")
@@ -504,32 +514,46 @@ def run_histories_figure(ds, floors=None):
     for k, g in enumerate(gaps):
         color = f"C{(len(floors) + k) % 10}"
         left, right = str(ds.gap_left.values[g]), str(ds.gap_right.values[g])
-        label = (f"gap {g}: {left} {int(ds.gap_left_floor.values[g])} | "
-                 f"{right} {int(ds.gap_right_floor.values[g])}")
-        ax_f.plot(t, ds.pounding_force.isel(gap=g).values / 1e3, color=color, linewidth=0.9, label=label)
+        fl, fr = int(ds.gap_left_floor.values[g]), int(ds.gap_right_floor.values[g])
+        rel = (ds.displacement.sel(building=left, floor=fl).values
+               - ds.displacement.sel(building=right, floor=fr).values) * 100.0
+        ax_d.plot(t, rel, color=color, linewidth=0.9, label=f"u_{left}{fl} - u_{right}{fr} (gap {g})")
+        ax_d.axhline(float(ds.gap_size.values[g]) * 100.0, color=color, linestyle="--", linewidth=0.8,
+                     label=f"_size gap {g}")
+        ax_f.plot(t, ds.pounding_force.isel(gap=g).values / 1e3, color=color, linewidth=0.9,
+                  label=f"gap {g}: {left} {fl} | {right} {fr}")
         hit = gap_of == g
         # peak over every substep, at the onset: the sampled history can miss the true peak
-        ax_f.plot(onsets[hit], peaks[hit] / 1e3, linestyle="none", marker="v", markersize=5,
+        ax_f.plot(onsets[hit] * scale_t, peaks[hit] / 1e3, linestyle="none", marker="v", markersize=5,
                   markerfacecolor="none", markeredgecolor=color, markeredgewidth=0.9,
                   label=f"_impacts gap {g}")
+    ax_d.set_ylabel("u_left - u_right [cm]")
     ax_f.set_ylabel("pounding force [kN]")
-    ax_f.set_xlabel("time [s]")
+    ax_f.set_xlabel(f"time [{t_unit}]")
     if gaps:
+        handles, _ = ax_d.get_legend_handles_labels()
+        handles.append(Line2D([], [], color="0.3", linestyle="--", linewidth=0.8,
+                              label="gap size: contact above the dashed line"))
+        ax_d.legend(handles=handles, loc="upper right", fontsize="small")
         handles, _ = ax_f.get_legend_handles_labels()
         n_imp = int(np.isin(gap_of, gaps).sum())
+        first = ", ".join(f"{x:.1f}" for x in np.sort(onsets[np.isin(gap_of, gaps)])[:4] * 1e3) if ms else ""
         handles.append(Line2D([], [], linestyle="none", marker="v", markersize=5, markerfacecolor="none",
-                              markeredgecolor="0.3", label=f"impact: at onset time, its peak force ({n_imp})"))
+                              markeredgecolor="0.3",
+                              label=f"impact: at onset time, its peak force ({n_imp}"
+                                    + (f"; onsets {first} ms" if first else "") + ")"))
         ax_f.legend(handles=handles, loc="upper right", fontsize="small")
     else:
-        ax_f.text(0.5, 0.5, "no gap element at these floors", transform=ax_f.transAxes,
-                  ha="center", va="center", color="0.4")
-    for ax in (ax_u, ax_f):
+        for ax in (ax_d, ax_f):
+            ax.text(0.5, 0.5, "no gap element at these floors", transform=ax.transAxes,
+                    ha="center", va="center", color="0.4")
+    for ax in (ax_u, ax_d, ax_f):
         ax.grid(True, alpha=0.3)
     ax_f.set_xlim(t[0], t[-1])
-    law = ds.attrs.get("contact_law", "")
-    fig.suptitle((ds.attrs.get("title") or "seispound run")
-                 + (f"\ncontact law {law.strip('[]').replace(chr(34), '')}" if law else ""),
-                 fontsize="medium")
+    law = ds.attrs.get("contact_law", "").strip("[]").replace(chr(34), "")
+    where = ", ".join(f"{b} floor {f}" for b, f in floors)
+    fig.suptitle(f"{ds.attrs.get('title') or 'seispound run'}\nHistories of {where}"
+                 + (f"; contact law {law}" if law else ""), fontsize="medium")
     return fig
 
 

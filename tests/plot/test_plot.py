@@ -369,8 +369,8 @@ def test_run_histories_files_and_labels(run_ds, tmp_path):
 
 def test_run_histories_data(run_ds):
     fig = plot.run_histories_figure(run_ds, ["A:3", ("B", 4)])
-    ax_u, ax_f = fig.axes[:2]
-    assert ax_u.get_shared_x_axes().joined(ax_u, ax_f)
+    ax_u, ax_d, ax_f = fig.axes[:3]
+    assert ax_u.get_shared_x_axes().joined(ax_u, ax_f) and ax_u.get_shared_x_axes().joined(ax_u, ax_d)
     t = run_ds.time.values
     for name, floor in (("A", 3), ("B", 4)):
         ln = line(ax_u, f"{name} floor {floor}")
@@ -389,6 +389,36 @@ def test_run_histories_data(run_ds):
         np.testing.assert_allclose(marks.get_ydata(), run_ds.impact_peak_force.values[hit] / 1e3)
 
 
+def test_relative_displacement_against_gap_size(run_ds):
+    """The middle panel: u_left - u_right of each gap element and its size, so the closing gap shows."""
+    fig = plot.run_histories_figure(run_ds, [("A", 4), ("B", 4)])
+    ax_d = fig.axes[1]
+    rel = line(ax_d, "u_A4 - u_B4 (gap 3)")
+    want = (run_ds.displacement.sel(building="A", floor=4) - run_ds.displacement.sel(building="B", floor=4)) * 100
+    np.testing.assert_allclose(rel.get_ydata(), want.values)
+    size = line(ax_d, "_size gap 3")
+    assert size.get_ydata()[0] == pytest.approx(float(run_ds.gap_size[3]) * 100)
+    # every impact of gap 3 starts where the relative displacement reaches the gap size
+    assert float(want.max()) >= float(run_ds.gap_size[3]) * 100 * 0.999
+    assert "Histories of A floor 4, B floor 4" in fig.get_suptitle()
+    assert fig.axes[2].get_xlabel() == "time [s]"
+
+
+def test_short_impact_tests_use_milliseconds(tmp_path):
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ds = sp.simulate(sp.load_model(REPO / "models" / "slab_pendulum.toml"))
+    assert float(ds.time[-1]) < plot.MS_BELOW
+    fig = plot.run_histories_figure(ds)
+    assert fig.axes[2].get_xlabel() == "time [ms]"
+    marks = [ln for ln in fig.axes[2].lines if ln.get_label().startswith("_impacts")]
+    np.testing.assert_allclose(marks[0].get_xdata(), ds.impact_onset.values[ds.impact_gap.values == 0] * 1e3)
+    legend = [t.get_text() for t in fig.axes[2].get_legend().get_texts()]
+    assert any(f"onsets {float(ds.impact_onset[0]) * 1e3:.1f}" in x for x in legend)
+
+
 def test_default_floors_are_the_gap_with_most_impacts(run_ds):
     g = int(np.argmax(run_ds.impact_count.values))
     expected = [("A", int(run_ds.gap_left_floor[g])), ("B", int(run_ds.gap_right_floor[g]))]
@@ -399,7 +429,7 @@ def test_default_floors_are_the_gap_with_most_impacts(run_ds):
 
 
 def test_floor_without_gap_says_so(run_ds):
-    ax_f = plot.run_histories_figure(run_ds, [("B", 8)]).axes[1]
+    ax_f = plot.run_histories_figure(run_ds, [("B", 8)]).axes[2]
     assert not ax_f.lines
     assert [t.get_text() for t in ax_f.texts] == ["no gap element at these floors"]
 

@@ -613,6 +613,10 @@ def add_plot_parser(subparsers):
                    help="run dimension for the median and min-max band (default: record)")
     p.add_argument("--sel", metavar="DIM=VALUE", nargs="+", action="extend", default=[],
                    help="fix a dimension at one value; other run dimensions are reduced with max")
+    p.add_argument("--var", metavar="NAME",
+                   help="study variable to plot (default: max_amplification for --kind amplification, "
+                        "max_pounding_force for force), e.g. max_acceleration_amplification, "
+                        "max_drift_ratio_amplification, max_storey_shear_amplification")
     p.add_argument("--floors", metavar="B:F", nargs="+", action="extend", default=[],
                    help="floors for histories, e.g. A:4 B:4; default: both sides of the gap "
                         "element with the most impacts")
@@ -664,9 +668,17 @@ def _plot_file(ds, args):
             raise InputError("--floors is for single-run results", key="--floors")
         axis = args.axis or default_axis(ds)
         plot = study_amplification if kind == "amplification" else study_force
-        return plot(ds, axis, by=args.by, over=args.over, sel=_parse_sel(args.sel), out=args.output)
-    for option in ("axis", "by", "sel"):
-        if getattr(args, option):
+        extra = {}
+        if getattr(args, "var", None):
+            if args.var not in ds.data_vars or set(ds[args.var].dims) - set(ds.status.dims):
+                runs = [v for v in ds.data_vars if set(ds[v].dims) == set(ds.status.dims)
+                        and v not in ("status", "error")]
+                raise InputError(f"{args.var!r} is not a run variable of the store; choose from "
+                                 f"{', '.join(runs)}", key="--var")
+            extra["var"] = args.var
+        return plot(ds, axis, by=args.by, over=args.over, sel=_parse_sel(args.sel), out=args.output, **extra)
+    for option in ("axis", "by", "sel", "var"):
+        if getattr(args, option, None):
             raise InputError(f"--{option} is for study stores", key=f"--{option}")
     if args.over != "record":
         raise InputError("--over is for study stores", key="--over")

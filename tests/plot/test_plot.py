@@ -513,3 +513,22 @@ def test_cli_bad_files(tmp_path):
     with pytest.raises(InputError) as info:
         cli([str(other), "-o", str(tmp_path / "x")])
     assert info.value.key == "schema"
+
+
+def test_cli_study_var_plots_another_quantity(study_file, tmp_path, capsys):
+    """--var picks a run variable (e.g. max_acceleration_amplification); the figure is titled by it."""
+    ds = xr.open_dataset(study_file, engine="h5netcdf").load()
+    ds["max_acceleration_amplification"] = 3.0 * ds.max_amplification
+    ds.max_acceleration_amplification.attrs["units"] = "1"
+    path = tmp_path / "with_acc.h5"
+    ds.to_netcdf(path, engine="h5netcdf")
+    assert cli([str(path), "-o", str(tmp_path / "acc"), "--by", "law", "--var",
+                "max_acceleration_amplification"]) == 0
+    fig = plot.study_amplification_figure(ds, "gap_size", by="law", var="max_acceleration_amplification")
+    assert fig.axes[0].get_title().startswith("max acceleration amplification: median over record")
+    hd = line(fig.axes[0], "Hd")
+    want = np.nanmedian(3.0 * ds.max_amplification.sel(law="Hd").transpose("gap_size", "record").values, axis=1)
+    np.testing.assert_allclose(hd.get_ydata(), want[np.argsort(ds.gap_size.values)])
+    with pytest.raises(InputError) as info:
+        cli([str(path), "-o", str(tmp_path / "bad"), "--var", "amplification"])
+    assert info.value.key == "--var" and "'amplification' is not a run variable" in str(info.value)

@@ -101,8 +101,8 @@ def run(cmd: str, cwd: Path, timeout=600) -> subprocess.CompletedProcess:
 
 def _matches(shown: list[str], printed: list[str]) -> bool:
     """True if the printed lines equal the shown ones, where a shown line ``...`` (or ending in ...) skips."""
-    pattern = "\n".join(r"(.*\n)*?" if s.strip() == "..." else re.escape(s.rstrip()).replace(r"\.\.\.", ".*") + r"\n"
-                        for s in shown if s.strip())
+    pattern = "".join(r"(.*\n)*?" if s.strip() == "..." else re.escape(s.rstrip()).replace(r"\.\.\.", ".*") + r"\n"
+                      for s in shown if s.strip())
     return re.fullmatch(pattern + r"(.*\n)*", "\n".join(p.rstrip() for p in printed if p.strip()) + "\n") is not None
 
 

@@ -93,7 +93,8 @@ class Journal:
                                  file=self.path, key="study_hash")
             with open(self.path, "r+b") as fh:
                 fh.truncate(end)
-        self._fd = os.open(self.path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
+        # mode 0o666: the umask decides, as for every file seispound writes
+        self._fd = os.open(self.path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o666)
         if os.fstat(self._fd).st_size == 0:
             self._append({"study_hash": self.study_hash})
         return self

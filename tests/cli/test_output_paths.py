@@ -133,9 +133,15 @@ def test_written_files_follow_the_umask(result_file, store_file, tmp_path, mask)
         assert cli.main(["query", str(store_file), "-o", str(tmp_path / "q.csv")]) == 0
         with atomic_output(tmp_path / "plain.txt") as tmp:
             Path(tmp).write_text("x")
+        study = write_study(tmp_path / "st", duration=0.3, records=("elcentro_180",), gaps=(0.01,))
+        assert cli.main(["study", str(study), "-o", str(tmp_path / "store.h5"), "--scheduler", "serial",
+                         "--snapshot", "0", "-q"]) == 0
+        from seispound.study.journal import Journal
+
+        Journal(tmp_path / "j.h5", "hash").open().close()  # a journal, as a study in progress leaves it
     finally:
         os.umask(old)
-    for name in ("r.h5", "fig.png", "fig.svg", "q.csv", "plain.txt"):
+    for name in ("r.h5", "fig.png", "fig.svg", "q.csv", "plain.txt", "store.h5", "j.h5.journal"):
         assert stat.S_IMODE((tmp_path / name).stat().st_mode) == 0o666 & ~mask, name
     assert not list(tmp_path.glob(".*.tmp"))
 

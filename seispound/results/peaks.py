@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["PEAKS", "dof_peaks", "amplifications", "storey_arrays"]
+__all__ = ["PEAKS", "dof_peaks", "drift_history", "amplifications", "storey_arrays"]
 
 #: (name, units, long name) of each peak quantity, per DOF.
 PEAKS = [
@@ -49,7 +49,27 @@ def storey_arrays(system, buildings) -> tuple[np.ndarray, np.ndarray, np.ndarray
     return below, height, stiff
 
 
-def dof_peaks(raw, below, height, stiff) -> dict:
+def drift_history(u, below) -> np.ndarray:
+    """Inter-storey drift u_i - u_below(i) (the ground below a first floor) [m], shape of ``u`` (nt, n).
+
+    DOFs are numbered floor after floor within a building, so the DOF below is the previous one.
+    """
+    drift = np.empty_like(u)
+    drift[:, 0] = u[:, 0]
+    np.subtract(u[:, 1:], u[:, :-1], out=drift[:, 1:])
+    ground = below < 0
+    drift[:, ground] = u[:, ground]
+    return drift
+
+
+def _peak_abs(x) -> np.ndarray:
+    """max_t |x| per column, without an |x| temporary."""
+    if x.shape[0] == 0:
+        return np.zeros(x.shape[1])
+    return np.maximum(x.max(axis=0), -x.min(axis=0))
+
+
+def dof_peaks(raw, below, height, stiff, drift=None) -> dict:
     """Peak quantities of one run per DOF (module docstring), from its histories.
 
     Parameters
@@ -58,20 +78,22 @@ def dof_peaks(raw, below, height, stiff) -> dict:
         With histories (``store_history=True``).
     below, height, stiff : ndarray, shape (n,)
         From :func:`storey_arrays`.
+    drift : ndarray, shape (nt, n), optional
+        :func:`drift_history` of the run, if the caller has it.
 
     Returns
     -------
     dict of name -> ndarray (n,)
     """
-    u = raw.displacement
-    drift = u - np.where(below >= 0, u[:, np.maximum(below, 0)], 0.0)
-    peak_drift = np.max(np.abs(drift), axis=0, initial=0.0)
+    if drift is None:
+        drift = drift_history(raw.displacement, below)
+    peak_drift = _peak_abs(drift)
     return {
         "displacement": np.asarray(raw.peak_displacement, float).copy(),
-        "acceleration": np.max(np.abs(raw.acceleration), axis=0, initial=0.0),
+        "acceleration": _peak_abs(raw.acceleration),
         "drift": peak_drift,
         "drift_ratio": peak_drift / height,
-        "storey_shear": np.max(np.abs(drift * stiff), axis=0, initial=0.0),
+        "storey_shear": peak_drift * stiff,  # k is constant in time: max |k d| = k max |d|
     }
 
 

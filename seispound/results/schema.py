@@ -51,7 +51,7 @@ import json
 import numpy as np
 import xarray as xr
 
-from .peaks import amplifications, dof_peaks, storey_arrays
+from .peaks import amplifications, dof_peaks, drift_history, storey_arrays
 
 SCHEMA = "seispound-result"
 SCHEMA_VERSION = 2
@@ -87,9 +87,9 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
     acc[:, b_of, f_of] = raw.acceleration
     # drift per DOF: floor minus the floor below (the ground below the first)
     below, storey_h, storey_k = storey_arrays(system, model.buildings)
-    drift_dof = raw.displacement - np.where(below >= 0, raw.displacement[:, np.maximum(below, 0)], 0.0)
+    drift_dof = drift_history(raw.displacement, below)
     drift[:, b_of, f_of] = drift_dof
-    peaks = dof_peaks(raw, below, storey_h, storey_k)
+    peaks = dof_peaks(raw, below, storey_h, storey_k, drift_dof)
     peaks0 = None if raw_twin is None else dof_peaks(raw_twin, below, storey_h, storey_k)
     amps = amplifications(peaks, peaks0)
     nan = np.full(system.n_dof, np.nan)

@@ -133,9 +133,18 @@ class Building:
         return K
 
     def modes(self):
-        """Natural circular frequencies [rad/s], shape (N,), and mass-normalised mode shapes, shape (N, N)."""
-        w2, phi = eigh(self.stiffness_matrix(), self.mass_matrix())
-        return np.sqrt(w2), phi
+        """Natural circular frequencies [rad/s], shape (N,), and mass-normalised mode shapes, shape (N, N).
+
+        Kept for the current masses and stiffnesses (validation, the guards, damping and the
+        result's periods all ask for them on every run); recomputed when either changes.
+        """
+        key = (np.asarray(self.floor_masses, float).tobytes(), np.asarray(self.storey_stiffness, float).tobytes())
+        memo = self.__dict__.get("_modes")
+        if memo is None or memo[0] != key:
+            w2, phi = eigh(self.stiffness_matrix(), self.mass_matrix())
+            memo = (key, np.sqrt(w2), phi)
+            self.__dict__["_modes"] = memo
+        return memo[1], memo[2].copy()
 
     @property
     def periods(self) -> np.ndarray:

@@ -61,7 +61,7 @@ def twin_task(study, index: int) -> dict:
 def run_one(study, index: int, twin: dict) -> dict:
     """Run ``index`` of the study: its summaries (and kept histories) as arrays, or its error."""
     from ..integrate import integrate
-    from ..results.peaks import amplifications, dof_peaks
+    from ..results.peaks import amplifications, dof_peaks, drift_history
     from ..simulation import prepare_ground_motion
 
     out = {"index": int(index), "status": STATUS_FAILED, "error": ""}
@@ -79,8 +79,8 @@ def run_one(study, index: int, twin: dict) -> dict:
         return out
     below, height, stiff = _storeys(model, system)
     u = raw.displacement
-    drift = u - np.where(below >= 0, u[:, np.maximum(below, 0)], 0.0)
-    peaks = dof_peaks(raw, below, height, stiff)
+    drift = drift_history(u, below)
+    peaks = dof_peaks(raw, below, height, stiff, drift)
     peaks0 = twin["peaks"]
     amps = amplifications(peaks, peaks0)
     ng = raw.force.shape[1]

@@ -307,6 +307,15 @@ def _positive_finite(value, key: str, file) -> float:
     return x
 
 
+def _conversion(units, calibration, scale) -> tuple[float, list]:
+    """The factor to m/s^2 and the provenance sentences of the unit conversion and the scaling."""
+    factor = calibration if units == "counts" else UNIT_FACTORS[units]
+    steps = [f"converted from {units} to m/s2 (x {_fmt(factor)})"]
+    if scale != 1.0:
+        steps.append(f"scaled by {_fmt(scale)}")
+    return factor, steps
+
+
 def _trace_label(tr) -> str:
     peer = tr.stats.get("peer_at2")
     comp = f" (component {peer.component!r})" if peer and peer.component else ""
@@ -467,12 +476,9 @@ def read_record(path, *, trace=0, units="auto", calibration=None, scale=1.0,
                          file=file, key="data")
     dt = _positive_finite(tr.stats.delta, "delta", file)
 
-    factor = calibration if units == "counts" else UNIT_FACTORS[units]
+    factor, converted = _conversion(units, calibration, scale)
     steps = [f"read trace {tr.id} from {os.path.basename(file)} ({fmt}) with "
-             f"{data.size} samples at dt={_fmt(dt)} s",
-             f"converted from {units} to m/s2 (x {_fmt(factor)})"]
-    if scale != 1.0:
-        steps.append(f"scaled by {_fmt(scale)}")
+             f"{data.size} samples at dt={_fmt(dt)} s", *converted]
     provenance = {
         "file": file,
         "sha256": sha,
@@ -535,11 +541,8 @@ def record_from_samples(samples, dt, *, units, calibration=None, scale=1.0, sour
         if calibration is None:
             raise InputError("units='counts' needs calibration (m/s2 per count)", file=key, key="calibration")
         calibration = _positive_finite(calibration, "calibration", key)
-    factor = calibration if units == "counts" else UNIT_FACTORS[units]
-    steps = [f"taken from {source} with {data.size} samples at dt={_fmt(dt)} s",
-             f"converted from {units} to m/s2 (x {_fmt(factor)})"]
-    if scale != 1.0:
-        steps.append(f"scaled by {_fmt(scale)}")
+    factor, converted = _conversion(units, calibration, scale)
+    steps = [f"taken from {source} with {data.size} samples at dt={_fmt(dt)} s", *converted]
     provenance = {"file": source, "sha256": hashlib.sha256(np.ascontiguousarray(data).tobytes()).hexdigest(),
                   "format": "memory", "station": "", "component": "", "event": "", "date": "",
                   "npts": int(data.size), "dt_original": dt, "units": units, "calibration": calibration,
@@ -559,12 +562,9 @@ def _read_text(file, trace, units, calibration, scale, dt) -> Record:
     if dt is not None:
         dt = _positive_finite(dt, "dt", file)
     data, step, ncol = read_text_record(file, dt)
-    factor = calibration if units == "counts" else UNIT_FACTORS[units]
+    factor, converted = _conversion(units, calibration, scale)
     steps = [f"read {data.size} samples from {os.path.basename(file)} (text, {ncol} column"
-             f"{'s: time, acceleration' if ncol == 2 else ', dt stated'}) at dt={_fmt(step)} s",
-             f"converted from {units} to m/s2 (x {_fmt(factor)})"]
-    if scale != 1.0:
-        steps.append(f"scaled by {_fmt(scale)}")
+             f"{'s: time, acceleration' if ncol == 2 else ', dt stated'}) at dt={_fmt(step)} s", *converted]
     provenance = {"file": file, "sha256": _sha256(file), "format": "text", "station": "", "component": "",
                   "event": "", "date": "", "npts": int(data.size), "dt_original": step, "units": units,
                   "calibration": calibration, "scale": scale, "trace": os.path.basename(file),

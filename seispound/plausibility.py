@@ -190,10 +190,9 @@ def _level_findings(model) -> list[Finding]:
 
 def check_after_run(ds) -> list[Finding]:
     """Findings on a finished run's result Dataset (impacts whose velocity ratio lies outside [0, 1])."""
-    name = "impact_velocity_ratio" if "impact_velocity_ratio" in ds else "impact_restitution"
-    if name not in ds or ds.sizes.get("impact", 0) == 0:
+    if ds.sizes.get("impact", 0) == 0:
         return []
-    r = np.asarray(ds[name].values, float)
+    r = np.asarray(ds["impact_velocity_ratio"].values, float)
     out_of = np.isfinite(r) & ((r < 0.0) | (r > 1.0))
     if not out_of.any():
         return []

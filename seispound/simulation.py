@@ -43,17 +43,15 @@ def prepare_ground_motion(model):
 @functools.lru_cache(maxsize=32)
 def _read_prepared(file, mtime_ns, size, trace, units, calibration, scale, baseline, fmt, rec_dt, dt, nsteps):
     """Read and prepare a record once per (file version, settings): studies rerun the same record."""
-    from .motion.record import on_analysis_grid, read_record
+    from .motion.record import read_record
 
     path = Path(file)
     stage = "ground_motion"  # a "dt" that does not fit is the record's own while reading, the analysis's after
     try:
         rec = read_record(path, trace=trace, units=units, calibration=calibration, scale=scale, format=fmt,
                           dt=rec_dt)
-        if baseline is not None:
-            rec = rec.baseline_corrected(order=baseline)
         stage = "analysis"
-        rec = on_analysis_grid(rec, dt, nsteps * dt)  # resampled, cut or zero-padded: each step in provenance
+        rec = _to_grid(rec, baseline, dt, nsteps)
         ag = np.array(rec.acceleration)
     except InputError as err:
         if err.key in ("units", "trace", "calibration", "scale", "baseline", "dt", "format"):
@@ -65,16 +63,24 @@ def _read_prepared(file, mtime_ns, size, trace, units, calibration, scale, basel
     return ag, dict(rec.provenance)
 
 
+def _to_grid(rec, baseline, dt, nsteps):
+    """Baseline-corrected (if asked), then resampled, cut or zero-padded to the analysis grid: each step in
+    the provenance (:func:`seispound.motion.record.on_analysis_grid`)."""
+    from .motion.record import on_analysis_grid
+
+    if baseline is not None:
+        rec = rec.baseline_corrected(order=baseline)
+    return on_analysis_grid(rec, dt, nsteps * dt)
+
+
 def _prepare_samples(spec, dt, nsteps):
     """A ground motion given in memory (GroundMotionSpec.from_array / from_trace) on the analysis grid."""
-    from .motion.record import on_analysis_grid, record_from_samples
+    from .motion.record import record_from_samples
 
     try:
         rec = record_from_samples(spec.samples, spec.dt, units=spec.units, calibration=spec.calibration,
                                   scale=spec.scale, source=spec.source or "numpy array")
-        if spec.baseline is not None:
-            rec = rec.baseline_corrected(order=spec.baseline)
-        rec = on_analysis_grid(rec, dt, nsteps * dt)
+        rec = _to_grid(rec, spec.baseline, dt, nsteps)
     except InputError as err:
         raise InputError(err.message, file=err.file, key=f"ground_motion.{err.key}") from None
     return np.array(rec.acceleration), dict(rec.provenance)

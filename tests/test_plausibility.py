@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import shutil
 import warnings
 
 import numpy as np
@@ -14,15 +13,10 @@ from scipy.linalg import eigh
 import seispound as sp
 from seispound import InputError, cli
 from seispound.plausibility import PlausibilityWarning, check_after_run, check_before_run
-from tests.cli.test_bad_input import BASE, RECORD, sub
+from tests.cli.test_bad_input import BASE, sub, write_model
 
 PGA_ELCENTRO_G = 0.2808  # El Centro 1940 180, PEER header (tests/motion/test_at2.py)
 
-
-def _write(folder, text):
-    shutil.copyfile(RECORD, folder / "rec.AT2")
-    (folder / "model.toml").write_text(text, encoding="utf-8")
-    return folder / "model.toml"
 
 
 def _codes(ds):
@@ -32,13 +26,13 @@ def _codes(ds):
 def test_clean_model_has_no_findings(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error", PlausibilityWarning)
-        ds = sp.simulate(sp.load_model(_write(tmp_path, BASE)), twin=False)
+        ds = sp.simulate(sp.load_model(write_model(tmp_path, BASE)), twin=False)
     assert json.loads(ds.attrs["plausibility"]) == []
 
 
 def test_pga_above_3g_refused_unless_forced(tmp_path, capsys):
     """A record in cm/s2 declared as g: El Centro 0.2808 g times 981 = 275 g."""
-    model = _write(tmp_path, sub('units = "g"', 'units = "g"\nscale = 981.0')(BASE))
+    model = write_model(tmp_path, sub('units = "g"', 'units = "g"\nscale = 981.0')(BASE))
     assert cli.main(["run", str(model), "-o", str(tmp_path / "r.h5")]) == 2
     line = capsys.readouterr().err.strip()
     assert "\n" not in line and "model.toml: ground_motion.units: the record's PGA is 275.5 g" in line
@@ -56,7 +50,7 @@ def test_pga_above_3g_refused_unless_forced(tmp_path, capsys):
 
 def test_just_below_3g_runs_silently(tmp_path):
     scale = 2.99 / PGA_ELCENTRO_G
-    model = sp.load_model(_write(tmp_path, sub('units = "g"', f'units = "g"\nscale = {scale}')(BASE)))
+    model = sp.load_model(write_model(tmp_path, sub('units = "g"', f'units = "g"\nscale = {scale}')(BASE)))
     found = check_before_run(model, {"pga": 2.99 * 9.80665})
     assert [f.code for f in found] == []
 
@@ -64,7 +58,7 @@ def test_just_below_3g_runs_silently(tmp_path):
 def test_coarser_step_than_the_record_says_it_decimated(tmp_path):
     text = sub("dt = 0.005", "dt = 0.02")(BASE)
     with pytest.warns(PlausibilityWarning, match="decimated"):
-        ds = sp.simulate(sp.load_model(_write(tmp_path, text)), twin=False)
+        ds = sp.simulate(sp.load_model(write_model(tmp_path, text)), twin=False)
     msg = next(f["message"] for f in json.loads(ds.attrs["plausibility"]) if f["code"] == "decimated")
     assert "the analysis step 0.02 s is coarser than the record's step 0.01 s" in msg
     f_hi = float(msg.split("frequencies up to ")[1].split(" Hz")[0])
@@ -73,7 +67,7 @@ def test_coarser_step_than_the_record_says_it_decimated(tmp_path):
 
 def test_duration_beyond_the_record_says_zero_padded(tmp_path):
     text = sub("duration = 0.2", "duration = 60.0")(BASE)  # El Centro 180 lasts 53.71 s
-    model = sp.load_model(_write(tmp_path, text))
+    model = sp.load_model(write_model(tmp_path, text))
     with pytest.warns(PlausibilityWarning, match="zero-padded"):
         ds = sp.simulate(model, twin=False)
     msg = next(f["message"] for f in json.loads(ds.attrs["plausibility"]) if f["code"] == "zero_padded")
@@ -93,7 +87,7 @@ def _share_mode(m, k):
 
 
 def test_step_too_coarse_for_the_modes_that_matter(tmp_path):
-    model = sp.load_model(_write(tmp_path, BASE))
+    model = sp.load_model(write_model(tmp_path, BASE))
     (mode, period), name = min((_share_mode(b.floor_masses, b.storey_stiffness), b.name)
                                for b in model.buildings)
     assert mode == 2 and name == "A"  # uniform shear buildings: mode 1 holds 84-88 %, modes 1-2 above 90 %
@@ -112,7 +106,7 @@ def test_floors_that_mostly_face_a_storey(tmp_path):
     text = text.replace("floor_masses = [1.0e5, 1.0e5, 1.0e5, 1.0e5]", "floor_masses = 1.0e5\nfloors = 6")
     text = text.replace("storey_stiffness = [1.3092e8, 1.3092e8, 1.3092e8, 1.3092e8]", "storey_stiffness = 1.3e8")
     text = text.replace("floors = 8\n", "floors = 4\n").replace("storey_heights = 3.0\n", "storey_heights = [3.0, 4.5, 4.5, 4.5]\n")
-    model = sp.load_model(_write(tmp_path, text))
+    model = sp.load_model(write_model(tmp_path, text))
     found = [f for f in check_before_run(model, None) if f.code == "floor_levels"]
     assert len(found) == 1
     msg = found[0].message
@@ -137,14 +131,14 @@ def test_findings_refuse_only_what_is_marked(tmp_path):
     """Every non-refusing finding lets the run go on (exit 0) and is printed by the run summary."""
     text = sub("duration = 0.2", "duration = 55.0")(BASE)
     text = sub("dt = 0.005", "dt = 0.02")(text)
-    model = _write(tmp_path, text)
+    model = write_model(tmp_path, text)
     assert cli.main(["run", str(model), "-o", str(tmp_path / "r.h5"), "--no-twin"]) == 0
     ds = sp.open_result(tmp_path / "r.h5")
     assert {"decimated", "zero_padded"} <= set(_codes(ds))
 
 
 def test_refusal_is_an_input_error_naming_file_and_key(tmp_path):
-    model = sp.load_model(_write(tmp_path, sub('units = "g"', 'units = "g"\nscale = 20.0')(BASE)))
+    model = sp.load_model(write_model(tmp_path, sub('units = "g"', 'units = "g"\nscale = 20.0')(BASE)))
     with pytest.raises(InputError) as info:
         sp.simulate(model)
     assert info.value.key == "ground_motion.units" and info.value.file.endswith("model.toml")

@@ -157,10 +157,14 @@ def test_base_model_is_valid(tmp_path):
     assert ds.sizes["time"] == 41 and ds.sizes["gap"] == 4
 
 
-def _base(folder):
+def write_model(folder, text=BASE):
+    """``text`` (default: the base model) as folder/model.toml, next to a copy of the record it reads."""
     shutil.copyfile(RECORD, folder / "rec.AT2")
-    (folder / "model.toml").write_text(BASE, encoding="utf-8")
+    (folder / "model.toml").write_text(text, encoding="utf-8")
     return folder / "model.toml"
+
+
+_base = write_model
 
 
 def _check_line(line: str, folder: Path, model: Path, case: str):

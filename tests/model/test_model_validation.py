@@ -9,7 +9,6 @@ Regression tests of bugs found in a fresh install:
 from __future__ import annotations
 
 import math
-import shutil
 
 import numpy as np
 import pytest
@@ -18,13 +17,8 @@ import seispound as sp
 from seispound import InputError, cli
 from seispound.integrate import IntegrationError, Newmark, integrate
 from seispound.structure import assemble
-from tests.cli.test_bad_input import BASE, RECORD, sub
+from tests.cli.test_bad_input import BASE, sub, write_model
 
-
-def _write(folder, text):
-    shutil.copyfile(RECORD, folder / "rec.AT2")
-    (folder / "model.toml").write_text(text, encoding="utf-8")
-    return folder / "model.toml"
 
 
 @pytest.mark.parametrize("old, new, key", [
@@ -36,7 +30,7 @@ def _write(folder, text):
     ("size = 0.02", "size = [0.02, true, 0.02, 0.02]", "gap.1.size"),
 ])
 def test_wrong_type_reported_at_its_own_key(tmp_path, capsys, old, new, key):
-    model = _write(tmp_path, sub(old, new)(BASE))
+    model = write_model(tmp_path, sub(old, new)(BASE))
     assert cli.main(["run", str(model), "-o", str(tmp_path / "r.h5")]) == 2
     line = capsys.readouterr().err.strip()
     assert "\n" not in line
@@ -54,7 +48,7 @@ def test_wrong_type_reported_at_its_own_key(tmp_path, capsys, old, new, key):
 ])
 def test_python_api_validates_like_the_file_reader(tmp_path, edit, key):
     """A value set from Python after loading is refused by simulate() at the key the file reader names."""
-    model = sp.load_model(_write(tmp_path, BASE))
+    model = sp.load_model(write_model(tmp_path, BASE))
     edit(model)
     with pytest.raises(InputError) as info:
         sp.simulate(model, twin=False)
@@ -66,13 +60,13 @@ def test_newmark_beyond_its_stability_limit_is_refused(tmp_path, capsys):
     """beta = 1/6 (linear acceleration), dt = 0.1 s: the limit dt <= 0.551 T_n (Chopra Eq. 5.5.1)."""
     text = sub("dt = 0.005", "dt = 0.1\nnewmark = { beta = 0.16666666666666666, gamma = 0.5 }")(BASE)
     text = sub("duration = 0.2", "duration = 2.0")(text)
-    model = _write(tmp_path, text)
+    model = write_model(tmp_path, text)
     assert cli.main(["run", str(model), "-o", str(tmp_path / "r.h5")]) == 2
     line = capsys.readouterr().err.strip()
     assert "model.toml: analysis.dt: Newmark beta = 0.166667, gamma = 0.5 is stable only for dt <=" in line
     assert not (tmp_path / "r.h5").exists()
     # the limit itself: T_min of the row against 1 / (pi sqrt(2) sqrt(gamma - 2 beta)) = sqrt(3) / pi
-    m = sp.load_model(_write(tmp_path, BASE))
+    m = sp.load_model(write_model(tmp_path, BASE))
     t_min = min(b.periods[-1] for b in m.buildings)
     limit = Newmark(beta=1 / 6, gamma=0.5).stability_limit()
     assert limit == pytest.approx(math.sqrt(3) / math.pi, rel=1e-12)
@@ -86,7 +80,7 @@ def test_newmark_beyond_its_stability_limit_is_refused(tmp_path, capsys):
 
 def test_central_difference_needs_two_contact_substeps(tmp_path):
     """beta = 0: dt / T <= 1 / pi; half a contact period in one substep (0.5 T_c) is unstable."""
-    m = sp.load_model(_write(tmp_path, BASE))
+    m = sp.load_model(write_model(tmp_path, BASE))
     m.analysis.dt = 1e-4
     m.analysis.newmark = Newmark(beta=1e-12, gamma=0.5, contact_substeps=1)
     with pytest.raises(InputError) as info:
@@ -100,7 +94,7 @@ def test_a_diverging_run_stops_with_the_time(tmp_path):
     """Run the kernel past the limit directly (the model check refuses it): simulate's guard names the time."""
     from seispound.simulation import _check_finite, prepare_ground_motion
 
-    m = sp.load_model(_write(tmp_path, BASE))
+    m = sp.load_model(write_model(tmp_path, BASE))
     m.analysis.duration = 20.0  # about 450 steps: the stiffest mode grows 6.9 times a step
     system = assemble(m.buildings, [], None)
     ag, _ = prepare_ground_motion(m)

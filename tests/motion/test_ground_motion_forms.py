@@ -9,7 +9,6 @@
 from __future__ import annotations
 
 import json
-import shutil
 
 import numpy as np
 import obspy
@@ -20,7 +19,7 @@ from seispound import InputError, cli
 from seispound.model import GroundMotionSpec
 from seispound.motion import read_record
 from seispound.plausibility import PlausibilityWarning
-from tests.cli.test_bad_input import BASE, RECORD, sub
+from tests.cli.test_bad_input import BASE, RECORD, sub, write_model
 
 G = 9.80665
 
@@ -29,11 +28,6 @@ G = 9.80665
 def elcentro():
     return read_record(RECORD)
 
-
-def _model(folder, text):
-    shutil.copyfile(RECORD, folder / "rec.AT2")
-    (folder / "model.toml").write_text(text, encoding="utf-8")
-    return folder / "model.toml"
 
 
 def _processing(ds):
@@ -44,7 +38,7 @@ def test_provenance_names_decimation_truncation_and_padding(tmp_path):
     """dt 0.02 s on a 0.01 s record lasting 53.71 s, analysed for 60 s."""
     text = sub("dt = 0.005", "dt = 0.02")(sub("duration = 0.2", "duration = 60.0")(BASE))
     with pytest.warns(PlausibilityWarning):
-        ds = sp.simulate(sp.load_model(_model(tmp_path, text)), twin=False)
+        ds = sp.simulate(sp.load_model(write_model(tmp_path, text)), twin=False)
     steps = _processing(ds)
     assert steps[0].startswith("read trace .ELCEN..180 from rec.AT2 (PEER_AT2) with 5372 samples at dt=0.01 s")
     assert steps[1] == "converted from g to m/s2 (x 9.80665)"
@@ -59,7 +53,7 @@ def test_provenance_names_decimation_truncation_and_padding(tmp_path):
 
 
 def test_provenance_names_upsampling_and_truncation(tmp_path):
-    ds = sp.simulate(sp.load_model(_model(tmp_path, BASE)), twin=False)
+    ds = sp.simulate(sp.load_model(write_model(tmp_path, BASE)), twin=False)
     steps = _processing(ds)
     assert steps[2] == "resampled from dt=0.01 s to dt=0.005 s by linear interpolation (upsampling)"
     assert steps[3] == "truncated to 0.2 s (41 samples)"
@@ -69,8 +63,8 @@ def test_provenance_names_upsampling_and_truncation(tmp_path):
 
 
 def test_format_key_reads_the_same_record(tmp_path):
-    plain = sp.simulate(sp.load_model(_model(tmp_path, BASE)), twin=False)
-    named = sp.simulate(sp.load_model(_model(tmp_path, sub('units = "g"', 'units = "g"\nformat = "peer_at2"')(BASE))),
+    plain = sp.simulate(sp.load_model(write_model(tmp_path, BASE)), twin=False)
+    named = sp.simulate(sp.load_model(write_model(tmp_path, sub('units = "g"', 'units = "g"\nformat = "peer_at2"')(BASE))),
                         twin=False)
     assert np.array_equal(plain.displacement.values, named.displacement.values, equal_nan=True)
 
@@ -81,7 +75,7 @@ def test_format_key_reads_the_same_record(tmp_path):
     (sub('units = "g"', 'units = "g"\nformat = "text"\ndt = -1.0'), "ground_motion.dt", "must be a time step > 0"),
 ])
 def test_bad_format_settings(tmp_path, capsys, edit, key, words):
-    model = _model(tmp_path, edit(BASE))
+    model = write_model(tmp_path, edit(BASE))
     assert cli.main(["run", str(model), "-o", str(tmp_path / "r.h5")]) == 2
     line = capsys.readouterr().err.strip()
     assert "\n" not in line and f"model.toml: {key}: " in line and words in line, line
@@ -99,7 +93,7 @@ def test_unreadable_record_hint_can_be_followed(tmp_path):
 
 def _text_model(tmp_path, name, extra):
     text = sub('file = "rec.AT2"', f'file = "{name}"')(BASE)
-    return _model(tmp_path, sub('units = "g"', f'units = "g"\n{extra}')(text))
+    return write_model(tmp_path, sub('units = "g"', f'units = "g"\n{extra}')(text))
 
 
 def test_text_records_one_and_two_columns_equal_the_file(tmp_path, elcentro):
@@ -108,7 +102,7 @@ def test_text_records_one_and_two_columns_equal_the_file(tmp_path, elcentro):
     t = np.arange(a.size) * 0.01
     (tmp_path / "two.csv").write_text("# time [s], acceleration [g]\n" +
                                       "".join(f"{ti:.2f}, {ai:.8e}\n" for ti, ai in zip(t, a)))
-    ref = sp.simulate(sp.load_model(_model(tmp_path, BASE)), twin=False)
+    ref = sp.simulate(sp.load_model(write_model(tmp_path, BASE)), twin=False)
     one = sp.simulate(sp.load_model(_text_model(tmp_path, "one.txt", 'format = "text"\ndt = 0.01')), twin=False)
     two = sp.simulate(sp.load_model(_text_model(tmp_path, "two.csv", 'format = "text"')), twin=False)
     for ds in (one, two):
@@ -138,8 +132,8 @@ def test_bad_text_records(tmp_path, capsys, content, extra, key, words):
 
 
 def test_trace_and_array_from_python_equal_the_file(tmp_path, elcentro):
-    ref = sp.simulate(sp.load_model(_model(tmp_path, BASE)))
-    model = sp.load_model(_model(tmp_path, BASE))
+    ref = sp.simulate(sp.load_model(write_model(tmp_path, BASE)))
+    model = sp.load_model(write_model(tmp_path, BASE))
     tr = obspy.read(str(RECORD))[0]
     model.ground_motion = GroundMotionSpec.from_trace(tr, units="g")
     from_trace = sp.simulate(model)

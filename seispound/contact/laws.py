@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from . import _scalar as S
+from . import codes as S
 
 __all__ = [
     "ContactLaw",
@@ -142,7 +142,9 @@ class ContactLaw:
     # -- evaluation from Python ----------------------------------------------
     def onset_damping(self, approach_velocity: float, m1: float = 1.0, m2: float = 1.0) -> float:
         """Damping parameter that the kernel fixes at the onset of an impact (see ``_scalar.onset_damping``)."""
-        return S.onset_damping(self.code, self.kernel_params(m1, m2), float(approach_velocity))
+        from . import _scalar  # compiled on first use: reading a model file compiles nothing
+
+        return _scalar.onset_damping(self.code, self.kernel_params(m1, m2), float(approach_velocity))
 
     def force(self, delta, rate, approach_velocity, m1=1.0, m2=1.0):
         """Contact force [N] for penetration ``delta`` [m] and rate [m/s].
@@ -162,12 +164,14 @@ class ContactLaw:
             Force, same shape as the broadcast inputs; zero where delta <= 0.
         """
         par = self.kernel_params(m1, m2)
-        zeta = S.onset_damping(self.code, par, float(approach_velocity))
+        from . import _scalar
+
+        zeta = _scalar.onset_damping(self.code, par, float(approach_velocity))
         d, r = np.broadcast_arrays(np.asarray(delta, float), np.asarray(rate, float))
         out = np.zeros(d.shape)
         for idx in np.ndindex(d.shape):
             if d[idx] > 0.0:
-                out[idx] = S.contact_force(self.code, par, d[idx], r[idx], zeta)[0]
+                out[idx] = _scalar.contact_force(self.code, par, d[idx], r[idx], zeta)[0]
         return out
 
 

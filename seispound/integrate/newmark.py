@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
+from ..model.analysis import Newmark
 from . import _kernel as K
 from .modal import dof_blocks, modal_basis
 
@@ -19,49 +20,6 @@ __all__ = ["Newmark", "RawResult", "integrate", "IntegrationError"]
 
 class IntegrationError(RuntimeError):
     """The integration could not proceed (Newton did not converge, capacity exceeded)."""
-
-
-@dataclass
-class Newmark:
-    """Newmark-beta settings.
-
-    Parameters
-    ----------
-    beta, gamma : float
-        Newmark parameters (default 1/4, 1/2: average acceleration,
-        unconditionally stable, no numerical damping; Newmark 1959).
-    contact_substeps : int
-        Substeps per estimated impact duration while a gap is closed.
-    rtol : float
-        Newton residual tolerance relative to the largest force term.
-    max_iter : int
-        Newton iterations before the step is cut by 4.
-    """
-
-    beta: float = 0.25
-    gamma: float = 0.5
-    contact_substeps: int = 32
-    rtol: float = 1e-10
-    max_iter: int = 30
-
-    def validate(self, key: str = "analysis.newmark") -> None:
-        for name in ("beta", "gamma", "rtol"):
-            val = getattr(self, name)
-            if not isinstance(val, (int, float)) or isinstance(val, bool) or not math.isfinite(val) or val <= 0:
-                raise InputError(f"must be a finite number > 0, got {val!r}", key=f"{key}.{name}")
-        if self.gamma < 0.5:
-            raise InputError(f"gamma < 1/2 gives negative numerical damping (unstable); got {self.gamma}",
-                             key=f"{key}.gamma")
-        for name in ("contact_substeps", "max_iter"):
-            val = getattr(self, name)
-            if not isinstance(val, int) or isinstance(val, bool) or val < 1:
-                raise InputError(f"must be an integer >= 1, got {val!r}", key=f"{key}.{name}")
-
-    def stability_limit(self) -> float:
-        """Largest stable dt/T_n (inf if 2 beta >= gamma; Chopra Eq. 5.5.1 generalised)."""
-        if 2.0 * self.beta >= self.gamma:
-            return math.inf
-        return 1.0 / (math.pi * math.sqrt(2.0) * math.sqrt(self.gamma - 2.0 * self.beta))
 
 
 @dataclass

@@ -7,32 +7,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import InputError
-from ..integrate import Newmark
+from .analysis import Analysis
 
 __all__ = ["Analysis", "GroundMotionSpec", "Model"]
-
-
-@dataclass
-class Analysis:
-    """Analysis settings: step ``dt`` [s], ``duration`` [s], Newmark parameters."""
-
-    dt: float
-    duration: float
-    newmark: Newmark = field(default_factory=Newmark)
-
-    def validate(self, key: str = "analysis") -> None:
-        for name in ("dt", "duration"):
-            val = getattr(self, name)
-            if not isinstance(val, (int, float)) or isinstance(val, bool) or not math.isfinite(val) or val <= 0:
-                raise InputError(f"must be a finite number > 0, got {val!r}", key=f"{key}.{name}")
-        if self.duration < self.dt:
-            raise InputError(f"duration {self.duration} is shorter than dt {self.dt}", key=f"{key}.duration")
-        self.newmark.validate(f"{key}.newmark")
-
-    @property
-    def nsteps(self) -> int:
-        """Analysis steps: enough to cover ``duration`` (the last one may end past it)."""
-        return int(math.ceil(self.duration / self.dt - 1e-9))
 
 
 @dataclass

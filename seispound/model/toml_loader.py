@@ -12,9 +12,9 @@ else:  # pragma: no cover
 
 from ..contact import get_law
 from ..errors import InputError, number_array
-from ..integrate import Newmark
 from ..structure import Building, Gap, NoDamping, RayleighDamping
-from .spec import Analysis, GroundMotionSpec, Model
+from .analysis import Analysis, Newmark
+from .spec import GroundMotionSpec, Model
 
 __all__ = ["load_model", "parse_model", "read_toml"]
 

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..contact import _scalar as S
+from ..contact import codes as S
 from .gap import GapLink, expand_gap
 
 __all__ = ["SystemArrays", "assemble"]
@@ -46,7 +46,7 @@ class SystemArrays:
         Left and right DOF of each gap element; penetration = u_i - u_j - size.
     gap_size : (ng,) float, [m]
     gap_law : (ng,) int
-        Law code (``contact._scalar``).
+        Law code (``contact.codes``).
     gap_par : (ng, N_PAR) float
         Law parameters (columns ``P_*``).
     links : list of GapLink

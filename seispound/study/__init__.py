@@ -5,15 +5,17 @@
 schema in :mod:`.schema`), and ``open_study`` opens the store for queries.
 """
 
-from .execute import run_study
-from .spec import load_study
+from importlib import import_module
 
 __all__ = ["load_study", "run_study", "open_study"]
 
+# loaded on first use: the command line builds its parser from .query without dask, numba or xarray
+_LAZY = {"load_study": ".spec", "run_study": ".execute", "open_study": ".query"}
+
 
 def __getattr__(name):
-    if name == "open_study":
-        from .query import open_study
-
-        return open_study
-    raise AttributeError(name)
+    if name in _LAZY:
+        value = getattr(import_module(_LAZY[name], __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'seispound.study' has no attribute {name!r}")

@@ -1,0 +1,92 @@
+"""Same-process A/B timing of the integrator against an earlier commit.
+
+``python -m benchmarks.ab REF [--model models/row_of_three.toml] [--repeat 7]``
+
+The package as it was at git ``REF`` is exported to a temporary folder under the
+name ``seispound_ref`` (its absolute ``seispound.`` imports rewritten) and
+imported next to the working tree's ``seispound``.  Both integrate the same
+assembled row and record, alternately, after compilation; reported are the
+medians of each and their ratio (working tree / REF), for the pounding run and
+for the no-pounding twin, plus the largest difference of their displacement
+histories.  Timing both in one process removes the machine's drift between
+runs, which is larger than the 5 % a refactoring must stay within.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import io
+import re
+import statistics
+import subprocess
+import sys
+import tarfile
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def export_reference(ref: str, folder: Path) -> None:
+    """Write the package at ``ref`` to folder/seispound_ref (imports renamed)."""
+    blob = subprocess.run(["git", "-C", str(REPO), "archive", ref, "seispound"], check=True,
+                          capture_output=True).stdout
+    with tarfile.open(fileobj=io.BytesIO(blob)) as tar:
+        tar.extractall(folder, filter="data")
+    src = folder / "seispound"
+    for path in src.rglob("*.py"):
+        text = path.read_text(encoding="utf-8")
+        path.write_text(re.sub(r"\bseispound\.", "seispound_ref.", text), encoding="utf-8")
+    src.rename(folder / "seispound_ref")
+
+
+def _runner(pkg, model_path):
+    model = pkg.load_model(model_path)
+    system = model.assembled() if hasattr(model, "assembled") else None
+    if system is None:
+        system = importlib.import_module(pkg.__name__ + ".structure").assemble(
+            model.buildings, model.gaps, model.contact)
+    ag, _ = importlib.import_module(pkg.__name__ + ".simulation").prepare_ground_motion(model)
+    integrate = importlib.import_module(pkg.__name__ + ".integrate").integrate
+    an = model.analysis
+    twin = system.without_contact()
+    return (lambda: integrate(system, ag, an.dt, an.nsteps, an.newmark),
+            lambda: integrate(twin, ag, an.dt, an.nsteps, an.newmark))
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("ref", help="git commit or branch to compare against")
+    ap.add_argument("--model", default=str(REPO / "models" / "row_of_three.toml"))
+    ap.add_argument("--repeat", type=int, default=7)
+    args = ap.parse_args(argv)
+    with tempfile.TemporaryDirectory() as tmp:
+        export_reference(args.ref, Path(tmp))
+        sys.path.insert(0, tmp)
+        ref = importlib.import_module("seispound_ref")
+        new = importlib.import_module("seispound")
+        runs = {"ref": _runner(ref, args.model), "new": _runner(new, args.model)}
+        out = {name: (pound(), twin()) for name, (pound, twin) in runs.items()}  # compile, and compare
+        diff = float(np.max(np.abs(out["new"][0].displacement - out["ref"][0].displacement)))
+        times = {(name, part): [] for name in runs for part in (0, 1)}
+        for _ in range(args.repeat):
+            for name, fns in runs.items():
+                for part, fn in enumerate(fns):
+                    t0 = time.perf_counter()
+                    fn()
+                    times[name, part].append(time.perf_counter() - t0)
+    print(f"model {args.model}; medians of {args.repeat}, alternating, one process")
+    for part, label in enumerate(("pounding run", "no-pounding twin")):
+        r = statistics.median(times["ref", part])
+        n = statistics.median(times["new", part])
+        print(f"  {label:17s} {args.ref}: {1e3 * r:8.2f} ms   working tree: {1e3 * n:8.2f} ms   ratio {n / r:.3f}")
+    print(f"  largest displacement difference (pounding run): {diff:.3g} m")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -95,8 +95,7 @@ def counting_kernel():
     which it fills with the counts named P_* above.
     """
     src = KERNEL.read_text()
-    src = src.replace("from ..contact._scalar import", "from seispound.contact._scalar import")
-    src = src.replace("from ._borrow import", "from seispound.integrate._borrow import")
+    src = src.replace("from ..", "from seispound.").replace("from ._", "from seispound.integrate._")
     src = src.replace("@njit(cache=True", "@njit(cache=False")
     for anchor, code, where in _PATCHES:
         if src.count(anchor) != 1:

@@ -10,6 +10,7 @@ import numpy as np
 from ..errors import InputError
 from ..model.analysis import Newmark
 from . import _kernel as K
+from ._multirate import WAIT_SHARE
 from .modal import dof_blocks, modal_basis
 
 # longest free-flight block [analysis steps]; blocks start at 16 after an impact
@@ -97,7 +98,7 @@ def _cached_basis(system):
 
 def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newmark | None = None,
               impact_capacity: int | None = None, store_history: bool = True,
-              free_flight: bool = True, multirate: bool = True, wait_share: float = K.WAIT_SHARE) -> RawResult:
+              free_flight: bool = True, multirate: bool = True, wait_share: float = WAIT_SHARE) -> RawResult:
     """Integrate a row of buildings under one (or one per DOF group) ground motion.
 
     Parameters

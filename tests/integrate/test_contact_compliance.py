@@ -17,7 +17,7 @@ import pytest
 
 from seispound.contact import make_law
 from seispound.integrate import integrate
-from seispound.integrate._kernel import (
+from seispound.integrate._linear import (
     SEMISEPARABLE_GAPS, _compliance_tridiagonal, _factor, _inverse_diagonals, _subtract_contact,
 )
 from seispound.structure import Building, Gap, RayleighDamping, assemble

@@ -17,7 +17,7 @@ import scipy.linalg as sl
 
 from seispound.contact import make_law
 from seispound.integrate import Newmark, integrate
-from seispound.integrate._kernel import _group_contacts
+from seispound.integrate._contact import _group_contacts
 from seispound.integrate.newmark import gap_blocks
 from seispound.structure import Gap, assemble
 from tests.reference_twin import RefGap, RefLaw, shear_matrices, simulate_reference

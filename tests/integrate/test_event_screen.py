@@ -9,7 +9,7 @@ first crossing.  Checked against the cubic sampled densely.
 import numpy as np
 import pytest
 
-from seispound.integrate._kernel import LAND_TOL, _event_in_step
+from seispound.integrate._events import LAND_TOL, _event_in_step
 
 
 def cubic(d0, r0, d1, r1, h, s):
@@ -72,7 +72,7 @@ def test_the_screen_never_misses_an_event_and_finds_the_first_crossing():
 def _bisect(lo, hi, d0, r0, d1, r1, h, sgn, iters=200):
     """The reference: plain bisection to the last representable bracket, on the kernel's
     own evaluation of the cubic (the sign of delta next to the root is round-off)."""
-    from seispound.integrate._kernel import _hermite
+    from seispound.integrate._events import _hermite
 
     for _ in range(iters):
         mid = 0.5 * (lo + hi)
@@ -89,7 +89,7 @@ def test_the_crossing_refinement_lands_where_bisection_does():
     """``_crossing_in`` (safeguarded Newton) against bisection run to round-off on the
     same bracket: the same crossing to a few ulps, on brackets of every width and
     position inside the step, with gentle and with steep cubics."""
-    from seispound.integrate._kernel import _crossing_in, _hermite
+    from seispound.integrate._events import _crossing_in, _hermite
 
     rng = np.random.default_rng(11)
     checked = 0
@@ -119,7 +119,7 @@ def test_the_crossing_refinement_lands_where_bisection_does():
 
 def test_the_crossing_refinement_keeps_the_old_answer_without_a_bracket():
     """delta already above 0 (but below tol) at the bracket's start: plain bisection, as before."""
-    from seispound.integrate._kernel import _crossing_in, _hermite
+    from seispound.integrate._events import _crossing_in, _hermite
 
     d0, r0, d1, r1, h = 2.08e-7, -0.0995, 0.00019, -1.16, 0.00146  # dips below 0, then rises past it
     lo, hi = 0.0, 1.0 / 16.0

@@ -17,7 +17,7 @@ import pytest
 from seispound import load_model
 from seispound.contact import make_law
 from seispound.integrate import integrate
-from seispound.integrate._kernel import LAND_TOL
+from seispound.integrate._events import LAND_TOL
 from seispound.simulation import prepare_ground_motion
 from seispound.structure import Gap, assemble
 from tests.verification._helpers import el_centro, shear_building

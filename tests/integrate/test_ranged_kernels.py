@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from seispound.contact import make_law
-from seispound.integrate import _kernel as K
+from seispound.integrate import _linear as K
 from seispound.integrate.modal import dof_blocks
 from seispound.integrate.newmark import _element_blocks
 from seispound.structure import Gap, assemble

@@ -1,0 +1,130 @@
+"""Contact elements: the onset of an impact (law state and catalogue row), the contact groups and the
+condensed Newton iteration on the forces of the closed gaps.
+
+A contact law (``seispound.contact._scalar``) knows only the penetration, its
+rate and the per-impact state set at onset; this module links it to the two
+DOFs of each gap.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..contact._scalar import (
+    P_EXPONENT,
+    P_K,
+    P_MEFF,
+    P_TENSION,
+    contact_duration,
+    contact_force,
+    law_force,
+    onset_damping,
+)
+from ._linear import _dense_solve
+
+# NIVe's damping c-bar ~ delta^(1/4) makes the force rise like t^(1/4) at first
+# contact; its first substeps are graded (1/2^ONSET_GRADING of the regular
+# substep, doubling each substep) so that the impact converges with the substep.
+ONSET_GRADING = 6
+
+
+@njit(cache=True, inline="always")
+def _newton(lo, hi, act_list, Gm, dl, rl, Fm, cc, gap_law, gap_par, zeta, scale, rtol, max_iter,
+            resv, kt, Sm, ym):
+    """Newton-Raphson on the forces Fm[lo:hi] of one group of gaps in contact (module docstring).
+
+    The penetration and rate of gap q are dl[q] - (G F)_q and rl[q] - cc (G F)_q
+    (G = B^T K_hat^-1 B restricted to the group, Gm[lo:hi, lo:hi]); the
+    residual F - F_law is tested against rtol times the largest of ``scale``
+    and the forces.  Returns (converged, iterations beyond the first evaluation).
+    """
+    m = hi - lo
+    it = 0
+    while True:
+        rn = 0.0
+        sc = scale
+        for q in range(lo, hi):
+            g = act_list[q]
+            s1 = 0.0
+            for r in range(lo, hi):
+                s1 += Gm[q, r] * Fm[r]
+            # (the parameters as scalars: a view gap_par[g] would cost two atomic
+            # reference-count updates per evaluation)
+            Fg, dFd, dFv = law_force(gap_law[g], gap_par[g, P_K], gap_par[g, P_EXPONENT], gap_par[g, P_MEFF],
+                                     gap_par[g, P_TENSION], dl[q] - s1, rl[q] - cc * s1, zeta[g])
+            resv[q] = Fm[q] - Fg
+            kt[q] = dFd + cc * dFv
+            rn = max(rn, abs(resv[q]))
+            sc = max(sc, abs(Fg))
+        if rn <= rtol * sc:
+            return True, it
+        if it >= max_iter:
+            return False, it
+        it += 1
+        # Newton: (I + diag(kt) G) dF = -res, on the group (local indices in Sm, ym)
+        for q in range(lo, hi):
+            for r in range(lo, hi):
+                Sm[q - lo, r - lo] = kt[q] * Gm[q, r]
+            Sm[q - lo, q - lo] += 1.0
+            ym[q - lo] = -resv[q]
+        _dense_solve(m, Sm, ym)
+        for q in range(lo, hi):
+            Fm[q] += ym[q - lo]
+
+
+@njit(cache=True)
+def _group_contacts(m, act_list, gap_lo, gap_hi, comp_off):
+    """Order the m closed gaps into groups that share no building; return the number of groups.
+
+    Gaps whose blocks (DOF ranges gap_lo..gap_hi-1: the buildings a gap links
+    and any between them) do not overlap are uncoupled: G = B^T K_hat^-1 B is
+    block diagonal over such groups, because K_hat is block diagonal over the
+    buildings.  act_list[:m] is sorted by gap_lo (insertion sort: it is
+    nearly sorted from the previous event) and group c is
+    act_list[comp_off[c]:comp_off[c + 1]].
+    """
+    comp_off[0] = 0
+    if m <= 1:
+        comp_off[1] = m
+        return m
+    for s in range(1, m):
+        g = act_list[s]
+        t = s - 1
+        while t >= 0 and (gap_lo[act_list[t]] > gap_lo[g]
+                          or (gap_lo[act_list[t]] == gap_lo[g] and act_list[t] > g)):
+            act_list[t + 1] = act_list[t]
+            t -= 1
+        act_list[t + 1] = g
+    n_comp = 0
+    reach = gap_hi[act_list[0]]
+    for q in range(1, m):
+        g = act_list[q]
+        if gap_lo[g] >= reach:
+            n_comp += 1
+            comp_off[n_comp] = q
+        reach = max(reach, gap_hi[g])
+    n_comp += 1
+    comp_off[n_comp] = m
+    return n_comp
+
+
+@njit(cache=True)
+def _begin_impact(g, t, dg, rg, code, par, n_sub, active, zeta, hsub, age, cur_imp,
+                  n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_fmax, imp_dur, imp_vout):
+    """Open impact number ``n_imp`` at gap g: fix its damping from the approach
+    velocity rg, size its substeps, start its catalogue row; return its onset force."""
+    active[g] = True
+    zeta[g] = onset_damping(code, par, rg)
+    hsub[g] = contact_duration(code, par, rg) / n_sub
+    age[g] = 0
+    cur_imp[g] = n_imp
+    imp_gap[n_imp] = g
+    imp_t0[n_imp] = t
+    imp_v0[n_imp] = rg
+    imp_zeta[n_imp] = zeta[g]
+    imp_dur[n_imp] = np.nan
+    imp_vout[n_imp] = np.nan
+    f0 = contact_force(code, par, dg, rg, zeta[g])[0]
+    imp_fmax[n_imp] = max(f0, 0.0)
+    return f0

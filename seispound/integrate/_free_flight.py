@@ -1,0 +1,233 @@
+"""Free flight: blocks of analysis steps with every gap open, marched in modal coordinates.
+
+The buildings are then linear, uncoupled and (where this is used) classically
+damped: each mode follows the same Newmark recurrence as the physical path,
+with no solve; Phi q rebuilds the physical rows chunk by chunk, every gap is
+screened at every step, and the block stops before the first step in which a
+gap may close (handed to the physical path with its root estimate).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..contact._scalar import NONE
+from ._events import LAND_TOL, _event_in_step
+from ._outputs import E_CONTACT, E_DAMPING, E_INPUT, E_KINETIC, E_STRAIN
+
+# Free-flight blocks are marched, rebuilt and screened FREE_FLIGHT_CHUNK steps at a time.
+FREE_FLIGHT_CHUNK = 32
+
+
+# Rows of up to SMALL_ROW DOFs reconstruct free-flight histories with one
+# product by the whole block-diagonal Phi^T (cheaper than a call per building).
+SMALL_ROW = 64
+
+
+@njit(cache=True)
+def _rows_from_modal(md_start, md_blocks_t, md_block_off, md_phi_t, Q, nb, X, s_in, s_out):
+    """Physical rows X[k] = Phi Q[k], k < nb (X C-contiguous, nb rows).
+
+    A small row (n <= SMALL_ROW DOFs) takes one BLAS product with the whole
+    block-diagonal Phi^T.  Otherwise each block's columns are gathered into a
+    contiguous scratch for one product per block (building), so the cost per
+    step is the sum of n_b^2, linear in the number of buildings.
+    """
+    n = Q.shape[1]
+    if n <= SMALL_ROW or md_start.size == 2:
+        np.dot(Q[:nb], md_phi_t, X)
+        return
+    for c in range(md_start.size - 1):
+        o = md_start[c]
+        m = md_start[c + 1] - o
+        A = s_in[:nb * m].reshape((nb, m))
+        for k in range(nb):
+            for j in range(m):
+                A[k, j] = Q[k, o + j]
+        B = md_blocks_t[md_block_off[c]:md_block_off[c + 1]].reshape((m, m))
+        C = s_out[:nb * m].reshape((nb, m))
+        np.dot(A, B, C)
+        for k in range(nb):
+            for i in range(m):
+                X[k, o + i] = C[k, i]
+
+
+@njit(cache=True)
+def _block_matvec(md_start, A, x, y, transposed):
+    """y = A x (or A^T x) for a block-diagonal A, block by block.
+
+    With A = md_phi_tm (Phi^T M): modal coordinates of a physical vector; with
+    A = md_phi_t (Phi^T) and ``transposed``: the physical vector of modal ones.
+    """
+    for c in range(md_start.size - 1):
+        o = md_start[c]
+        e = md_start[c + 1]
+        for r in range(o, e):
+            s = 0.0
+            for q in range(o, e):
+                s += (A[q, r] if transposed else A[r, q]) * x[q]
+            y[r] = s
+
+
+@njit(cache=True, fastmath=True)
+def _block_energy(nb, Q, QV, DQ, P, f_start, md_w2, md_c, Eb):
+    """Energy increments of a free-flight block, in modal form (Du . f = dq . f_q for mass-normalised modes).
+
+    Eb[0, k]: input work of step k, 0.5 (p_k + p_k+1) . dq; Eb[1, k]: work of the storey
+    and damping forces, 0.5 (f_k + f_k+1) . dq with f = omega^2 q + c q'; Eb[2, k], Eb[3, k]:
+    kinetic and strain energy at its end.  (fastmath: the sums may be reassociated.)
+    """
+    n = md_w2.size
+    for k in range(nb):
+        de = 0.0
+        dw = 0.0
+        ek = 0.0
+        es = 0.0
+        for j in range(n):
+            f1 = md_w2[j] * Q[k, j] + md_c[j] * QV[k, j]
+            f0 = f_start[j] if k == 0 else md_w2[j] * Q[k - 1, j] + md_c[j] * QV[k - 1, j]
+            de += 0.5 * (P[k, j] + P[k + 1, j]) * DQ[k, j]
+            dw += 0.5 * (f0 + f1) * DQ[k, j]
+            ek += 0.5 * QV[k, j] * QV[k, j]
+            es += 0.5 * md_w2[j] * Q[k, j] * Q[k, j]
+        Eb[0, k] = de
+        Eb[1, k] = dw
+        Eb[2, k] = ek
+        Eb[3, k] = es
+
+
+@njit(cache=True)
+def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
+                 md_start, md_blocks_t, md_block_off, md_phi_t, md_w2, md_c, md_gam, md_khinv, s_in, s_out,
+                 mq, mqv, mqa, Q, QV, QA, DQ, P, U, V, f_start, Eb,
+                 dof_motion, gap_i, gap_j, gap_size, gap_law, d0, r0,
+                 u, v, a, umax, out_u, out_v, out_a, out_f, out_e, e_in, w_int, e_cont, es0):
+    """March up to ``nblk`` analysis steps from step0 with every gap open, in modal coordinates.
+
+    The modal state (mq, mqv, mqa) at step0 advances by the Newmark recurrence
+    of each mode (``modal.py``: exact Newmark, no solve), displacements and
+    velocities follow as Phi q (one matrix product per block), and every gap is
+    screened step by step with the same test as the physical path.  The steps
+    before the first one in which a gap may close are accepted (outputs, peaks,
+    energy, carried gap states) and the physical state (u, v, a) is left at the
+    last of them.  Shapes: Q, QV, QA, DQ, U, V (nblk, n); P (nblk + 1, n).
+
+    Returns (accepted steps, event found, the event's fraction of its step and
+    its gap, e_in, w_int).  After an event the modal state is stale (it ran on
+    to the block's end).
+    """
+    n = mq.size
+    ng = gap_size.size
+    nm = ag.shape[0]
+    nb = min(nblk, nsteps - step0)
+    cm = 1.0 / (beta * dt * dt)
+    cc = gamma / (beta * dt)
+    c1 = 1.0 / (beta * dt)
+    c2 = 0.5 / beta - 1.0
+    c3 = 1.0 - gamma / beta
+    c4 = dt * (1.0 - 0.5 * gamma / beta)
+    # ---- modal loads p = -Gamma a_g at the block's steps -----------------------
+    for k in range(nb + 1):
+        for j in range(n):
+            P[k, j] = 0.0
+        for r in range(nm):
+            g = ag[r, step0 + k]
+            for j in range(n):
+                P[k, j] -= md_gam[r, j] * g
+    for j in range(n):
+        f_start[j] = md_w2[j] * mq[j] + md_c[j] * mqv[j]
+    # ---- march, rebuild and screen chunk by chunk, up to the first event ------
+    # (chunks keep the BLAS products large, and an event early in a long block
+    # wastes at most one chunk of speculative steps; the twin, with no gap to
+    # screen, takes the block in one chunk)
+    chunk = nb if ng == 0 else FREE_FLIGHT_CHUNK
+    Ub = out_u[step0 + 1:step0 + 1 + nb] if store else U[:nb]  # u = Phi q, straight into the histories
+    Vb = out_v[step0 + 1:step0 + 1 + nb] if store else V[:nb]
+    n_acc = nb
+    th_ev = 2.0  # the event's fraction of its step, and its gap
+    g_ev = -1
+    k0 = 0
+    while k0 < nb and n_acc == nb:
+        k1 = min(k0 + chunk, nb)
+        for k in range(k0, k1):
+            for j in range(n):  # every mode at once: vectorised over j
+                av = -c1 * mqv[j] - c2 * mqa[j]
+                vv = c3 * mqv[j] + c4 * mqa[j]
+                dq = (P[k + 1, j] - av - md_c[j] * vv - md_w2[j] * mq[j]) * md_khinv[j]
+                mq[j] += dq
+                mqv[j] = vv + cc * dq
+                mqa[j] = av + cm * dq
+                Q[k, j] = mq[j]
+                QV[k, j] = mqv[j]
+                QA[k, j] = mqa[j]
+                DQ[k, j] = dq
+        _rows_from_modal(md_start, md_blocks_t, md_block_off, md_phi_t, Q[k0:k1], k1 - k0, Ub[k0:k1], s_in, s_out)
+        if ng > 0 or store:
+            _rows_from_modal(md_start, md_blocks_t, md_block_off, md_phi_t, QV[k0:k1], k1 - k0, Vb[k0:k1],
+                             s_in, s_out)
+        # the first step in which any gap may close
+        for g in range(ng):
+            if gap_law[g] == NONE:
+                continue
+            ii = np.uint64(gap_i[g])  # unsigned subscripts (``_UNSIGNED``)
+            jj = np.uint64(gap_j[g])
+            if k0 == 0:
+                dp = d0[g]
+                rp = r0[g]
+            else:
+                dp = Ub[k0 - 1, ii] - Ub[k0 - 1, jj] - gap_size[g]
+                rp = Vb[k0 - 1, ii] - Vb[k0 - 1, jj]
+            for k in range(k0, min(n_acc + 1, k1)):
+                d1 = Ub[k, ii] - Ub[k, jj] - gap_size[g]
+                r1 = Vb[k, ii] - Vb[k, jj]
+                tol = LAND_TOL * max(abs(rp), abs(r1)) * dt + 1e-15
+                th = _event_in_step(dp, rp, d1, r1, dt, True, tol)  # the physical path's test
+                if th < 2.0:
+                    if k < n_acc or th < th_ev:
+                        n_acc = k  # later gaps need only look up to this step
+                        th_ev = th
+                        g_ev = g
+                    break
+                dp = d1
+                rp = r1
+        k0 = k1
+    event = n_acc < nb
+    if n_acc == 0:
+        return 0, event, th_ev, g_ev, e_in, w_int
+    # ---- accept steps 0 .. n_acc - 1 ------------------------------------------
+    for k in range(n_acc):
+        for i in range(n):
+            umax[i] = max(umax[i], abs(Ub[k, i]))
+    kl = n_acc - 1
+    for g in range(ng):
+        d0[g] = Ub[kl, gap_i[g]] - Ub[kl, gap_j[g]] - gap_size[g]
+        r0[g] = Vb[kl, gap_i[g]] - Vb[kl, gap_j[g]]
+    if store:
+        _rows_from_modal(md_start, md_blocks_t, md_block_off, md_phi_t, QA, n_acc,
+                         out_a[step0 + 1:step0 + 1 + n_acc], s_in, s_out)
+        _block_energy(n_acc, Q, QV, DQ, P, f_start, md_w2, md_c, Eb)
+        for k in range(n_acc):
+            row = step0 + k + 1
+            for i in range(n):
+                a[i] = out_a[row, i]  # relative; the stored acceleration is absolute
+                out_a[row, i] = a[i] + ag[dof_motion[i], row]
+            for g in range(ng):
+                out_f[row, g] = 0.0
+            e_in += Eb[0, k]
+            w_int += Eb[1, k]
+            out_e[row, E_INPUT] = e_in
+            out_e[row, E_KINETIC] = Eb[2, k]
+            out_e[row, E_STRAIN] = Eb[3, k]
+            out_e[row, E_DAMPING] = w_int - (Eb[3, k] - es0)
+            out_e[row, E_CONTACT] = e_cont
+    else:
+        _block_matvec(md_start, md_phi_t, QA[kl], a, True)
+    for i in range(n):
+        u[i] = Ub[kl, i]
+    if ng > 0 or store:
+        for i in range(n):
+            v[i] = Vb[kl, i]
+    else:
+        _block_matvec(md_start, md_phi_t, QV[kl], v, True)
+    return n_acc, event, th_ev, g_ev, e_in, w_int

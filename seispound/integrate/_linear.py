@@ -1,0 +1,395 @@
+"""The linear part of the row: its K_hat = K + gamma/(beta h) C + 1/(beta h^2) M, factored and solved.
+
+Masses are lumped, storeys are two-node springs (``el_i``, ``el_j``; -1 = the
+ground) with a stiffness ``el_k`` and a stiffness-proportional dashpot
+``el_a1 * el_k`` plus the mass-proportional ``dof_a0 * mass``.  Factor/solve
+strategies: tridiagonal L D L^T (p = 1, shear buildings) or banded Cholesky
+(p > 1), restricted to a range of DOFs when only some buildings step; the
+contact gaps enter as a low-rank border through Woodbury columns
+K_hat^-1 b_g, or, for a one-off step size with several gaps closed, through
+the semiseparable inverse of the tridiagonal K_hat (O(n + m^2)).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+# _UNSIGNED: loops over a DOF range lo..hi-1 run on np.uint64 subscripts.  numba
+# wraps negative subscripts around (x[-1] is the last entry), and it cannot drop
+# that test for a loop that starts at a runtime lo, only for range(n): with
+# signed subscripts the ranged loops ran 2.3x (tridiagonal solve) to 4.6x
+# (elementwise, not vectorised) slower than over 0..n-1.  Mixing np.uint64
+# and int64 in arithmetic gives float64 in numba, so index arithmetic stays
+# in np.uint64 throughout (a float subscript fails to compile).
+
+
+@njit(cache=True)
+def _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L):
+    """Factor K_hat(h) of the whole row in place into L, shape (n, p + 2) (``_factor_range``)."""
+    return _factor_range(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L, 0, mass.size, 0, el_i.size)
+
+
+@njit(cache=True)
+def _factor_range(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L, lo, hi, elo, ehi):
+    """Factor K_hat(h) on DOFs lo..hi-1 in place into L; False if K_hat is not positive definite.
+
+    [lo, hi) is a union of whole blocks (buildings) and elo..ehi-1 their
+    elements; rows outside are left as they were.  A block's rows come out the
+    same whichever other blocks are factored with it (no element couples them).
+
+    Tridiagonal (p = 1, shear buildings): K_hat = L D L^T with L unit lower
+    bidiagonal, stored as L[i, 0] = D_i, L[i, 1] = l_i = L(i, i - 1),
+    L[i, 2] = 1 / D_i (no square root, and the recurrences of the factor and
+    the solves carry one fused multiply-add per row instead of two operations).
+    Otherwise banded Cholesky K_hat = L L^T: L[i, d] = L(i, i - d), d <= p, and
+    L[i, p + 1] = 1 / L(i, i).  The stored reciprocals turn the solves'
+    divisions into multiplications.
+    """
+    cm = 1.0 / (beta * h * h)
+    cc = gamma / (beta * h)
+    for i in range(np.uint64(lo), np.uint64(hi)):
+        for d in range(p + 1):
+            L[i, d] = 0.0
+        L[i, 0] = mass[i] * (cm + cc * dof_a0[i])
+    for e in range(elo, ehi):
+        kk = el_k[e] * (1.0 + cc * el_a1[e])
+        i = el_i[e]
+        j = el_j[e]
+        L[i, 0] += kk
+        if j >= 0:
+            L[j, 0] += kk
+            if i > j:
+                L[i, i - j] -= kk
+            else:
+                L[j, j - i] -= kk
+    if p == 1:  # shear buildings: tridiagonal LDL^T, one straight-line recurrence
+        one = np.uint64(1)  # unsigned subscripts (``_UNSIGNED``)
+        ulo = np.uint64(lo)
+        for j in range(ulo, np.uint64(hi)):
+            s = L[j, 0]
+            if j > ulo:
+                c = L[j, one]  # K_hat(j, j - 1)
+                lj = c * L[j - one, 2]
+                L[j, one] = lj
+                s -= lj * c
+            if s <= 0.0:
+                return False
+            L[j, 0] = s
+            L[j, 2] = 1.0 / s
+        return True
+    # in place: A is read from L's lower band before it is overwritten
+    for j in range(lo, hi):
+        s = L[j, 0]
+        for k in range(max(lo, j - p), j):
+            s -= L[j, j - k] * L[j, j - k]
+        if s <= 0.0:
+            return False
+        L[j, 0] = math.sqrt(s)
+        L[j, p + 1] = 1.0 / L[j, 0]
+        for i in range(j + 1, min(hi, j + p + 1)):
+            s = L[i, i - j]
+            for k in range(max(lo, i - p), j):
+                s -= L[i, i - k] * L[j, j - k]
+            L[i, i - j] = s * L[j, p + 1]
+    return True
+
+
+@njit(cache=True, inline="always")
+def _solve(L, p, b, x):
+    """x = K_hat^-1 b with the banded Cholesky factor L (x may alias nothing)."""
+    _solve_range(L, p, b, x, 0, b.size)
+
+
+@njit(cache=True, inline="always")
+def _solve_range(L, p, b, x, lo, hi):
+    """x[lo:hi] = K_hat^-1 b on DOFs lo..hi-1, a union of whole uncoupled blocks (buildings).
+
+    K_hat is block diagonal over the buildings, so with b zero outside
+    [lo, hi) the solution is zero there too and only these rows take part.
+    """
+    if hi <= lo:
+        return
+    if p == 1:  # shear buildings: L D L^T, straight-line recurrences
+        # unsigned subscripts (``_UNSIGNED``)
+        one = np.uint64(1)
+        ulo = np.uint64(lo)
+        uhi = np.uint64(hi)
+        x[ulo] = b[ulo]
+        for i in range(ulo + one, uhi):
+            x[i] = b[i] - L[i, one] * x[i - one]
+        x[uhi - one] *= L[uhi - one, 2]
+        top = uhi - np.uint64(2)
+        for k in range(uhi - ulo - one):
+            i = top - k
+            x[i] = x[i] * L[i, 2] - L[i + one, one] * x[i + one]
+        return
+    for i in range(lo, hi):
+        s = b[i]
+        for k in range(max(lo, i - p), i):
+            s -= L[i, i - k] * x[k]
+        x[i] = s * L[i, p + 1]
+    for i in range(hi - 1, lo - 1, -1):
+        s = x[i]
+        for k in range(i + 1, min(hi, i + p + 1)):
+            s -= L[k, k - i] * x[k]
+        x[i] = s * L[i, p + 1]
+
+
+@njit(cache=True)
+def _inverse_diagonals(L, p, sig, Sd):
+    """Ratios and diagonal of K_hat^-1 from a tridiagonal (p = 1) or diagonal (p = 0) factor L.
+
+    With K_hat = L D L^T, L unit lower bidiagonal (subdiagonal l_i), the
+    inverse of a symmetric tridiagonal matrix is semiseparable (Meurant 1992,
+    SIAM J. Matrix Anal. Appl. 13(3) 707-728, Sec. 2): for a <= b
+
+        (K_hat^-1)_ab = Sd_b * prod_{k=a+1}^{b} sig_k,   sig_k = -l_k,
+        Sd_b = (K_hat^-1)_bb = 1 / D_b + sig_(b+1)^2 Sd_(b+1),
+
+    which follows from (L^-1)_ib = prod_{k=b+1}^{i} (-l_k) and
+    K_hat^-1 = L^-T D^-1 L^-1.  Unlike
+    the product form u_a v_b it neither overflows nor underflows: every factor
+    is a ratio.  sig_k = 0 where no storey couples DOFs k - 1 and k (between
+    buildings), so entries across buildings come out exactly zero.
+    Shapes: L (n, p + 2); sig, Sd (n,) [sig: -, Sd: m/N].
+    """
+    _inverse_diagonals_range(L, p, sig, Sd, 0, L.shape[0])
+
+
+@njit(cache=True)
+def _inverse_diagonals_range(L, p, sig, Sd, lo, hi):
+    """``_inverse_diagonals`` on DOFs lo..hi-1 only, a union of whole blocks (buildings)."""
+    if p == 0:  # diagonal K_hat (single-storey buildings): L[i, 1] = 1 / L(i, i)
+        for i in range(lo, hi):
+            sig[i] = 0.0
+            Sd[i] = L[i, 1] * L[i, 1]
+        return
+    sig[lo] = 0.0
+    for i in range(lo + 1, hi):
+        sig[i] = -L[i, 1]
+    Sd[hi - 1] = L[hi - 1, 2]
+    for i in range(hi - 2, lo - 1, -1):
+        Sd[i] = L[i, 2] + sig[i + 1] * sig[i + 1] * Sd[i + 1]
+
+
+# entries of K_hat^-1 below this fraction of the diagonal are set to zero
+# (they underflow anyway, and subnormal products are slow)
+INVERSE_FLOOR = 1e-200
+
+
+@njit(cache=True)
+def _compliance_tridiagonal(lo, hi, act_list, gap_i, gap_j, sig, Sd, Gm, dofs, order, pos, span, Kd):
+    """Gm[lo:hi, lo:hi] = B^T K_hat^-1 B for the gaps act_list[lo:hi] in contact, from the semiseparable inverse.
+
+    The 2m gap DOFs are sorted; the product of sig between each sorted pair of
+    neighbours costs one pass over the floors they span, and every entry of
+    K_hat^-1 among them follows as a running product: O(n + m^2) per call,
+    independent of how many gaps are closed (columns K_hat^-1 b_g would cost
+    O(n m)).  With m = hi - lo: dofs, order, pos, span (>= 2m,) and
+    Kd (>= 2m, >= 2m) are scratch; sig and Sd from ``_inverse_diagonals``.
+    """
+    m = hi - lo
+    k = 2 * m
+    for q in range(m):
+        g = act_list[lo + q]
+        dofs[2 * q] = gap_i[g]
+        dofs[2 * q + 1] = gap_j[g]
+    for s in range(k):  # insertion sort: k is small
+        order[s] = s
+    for s in range(1, k):
+        o = order[s]
+        x = dofs[o]
+        t = s - 1
+        while t >= 0 and dofs[order[t]] > x:
+            order[t + 1] = order[t]
+            t -= 1
+        order[t + 1] = o
+    for s in range(k):
+        pos[order[s]] = s
+    for s in range(k - 1):
+        prod = 1.0
+        for c in range(dofs[order[s]] + 1, dofs[order[s + 1]] + 1):
+            prod *= sig[c]
+            if abs(prod) < INVERSE_FLOOR:
+                prod = 0.0
+                break
+        span[s] = prod
+    for s in range(k):
+        Kd[s, s] = Sd[dofs[order[s]]]
+        prod = 1.0
+        for t in range(s + 1, k):
+            if prod != 0.0:
+                prod *= span[t - 1]
+                if abs(prod) < INVERSE_FLOOR:
+                    prod = 0.0
+            Kd[s, t] = Sd[dofs[order[t]]] * prod
+            Kd[t, s] = Kd[s, t]
+    for q in range(m):
+        a = pos[2 * q]
+        b = pos[2 * q + 1]
+        for r in range(q, m):
+            c = pos[2 * r]
+            d = pos[2 * r + 1]
+            Gm[lo + q, lo + r] = Kd[a, c] - Kd[a, d] - Kd[b, c] + Kd[b, d]
+            Gm[lo + r, lo + q] = Gm[lo + q, lo + r]
+
+
+@njit(cache=True)
+def _woodbury_columns(L, p, W, rows, nr, lo, hi, gap_i, gap_j):
+    """W[g, lo:hi] = K_hat^-1 b_g for the nr gaps g = rows[:nr], which all link the same blocks lo..hi-1.
+
+    Solved together: in the tridiagonal sweeps the nr right-hand sides are
+    independent recurrences, interleaved so that they overlap in the pipeline
+    (a single sweep is latency bound).
+    """
+    for r in range(nr):
+        g = rows[r]
+        for i in range(np.uint64(lo), np.uint64(hi)):
+            W[g, i] = 0.0
+        W[g, gap_i[g]] = 1.0
+        W[g, gap_j[g]] = -1.0
+    if p != 1:
+        for r in range(nr):
+            _solve_range(L, p, W[rows[r]], W[rows[r]], lo, hi)  # in place: b[i] is read before x[i] is written
+        return
+    one = np.uint64(1)  # unsigned subscripts (``_UNSIGNED``)
+    ulo = np.uint64(lo)
+    uhi = np.uint64(hi)
+    for i in range(ulo + one, uhi):  # L D L^T (``_factor``)
+        l1 = L[i, one]
+        for r in range(nr):
+            g = rows[r]
+            W[g, i] -= l1 * W[g, i - one]
+    d = L[uhi - one, 2]
+    for r in range(nr):
+        W[rows[r], uhi - one] *= d
+    top = uhi - np.uint64(2)
+    for k in range(uhi - ulo - one):
+        i = top - k
+        l1 = L[i + one, one]
+        d = L[i, 2]
+        for r in range(nr):
+            g = rows[r]
+            W[g, i] = W[g, i] * d - l1 * W[g, i + one]
+
+
+# A located step's one-off factor takes the semiseparable shortcut when at
+# least this many gaps are closed; with fewer, m Woodbury columns cost less.
+SEMISEPARABLE_GAPS = 3
+
+
+@njit(cache=True)
+def _subtract_contact(L, p, m, act_list, gap_i, gap_j, gap_lo, gap_hi, Fm, xs, Du):
+    """Du -= K_hat^-1 B F: the contact forces' share of the step, one solve.
+
+    The right-hand side is nonzero at the 2m gap DOFs only, so the solve runs
+    on the blocks the closed gaps link (``_solve_range``).  xs (n,) scratch.
+    """
+    lo = L.shape[0]
+    hi = 0
+    nonzero = False
+    for q in range(m):
+        g = act_list[q]
+        lo = min(lo, gap_lo[g])
+        hi = max(hi, gap_hi[g])
+        nonzero = nonzero or Fm[q] != 0.0
+    if not nonzero:
+        return
+    for i in range(np.uint64(lo), np.uint64(hi)):
+        xs[i] = 0.0
+    for q in range(m):
+        g = act_list[q]
+        xs[gap_i[g]] += Fm[q]
+        xs[gap_j[g]] -= Fm[q]
+    _solve_range(L, p, xs, xs, lo, hi)  # in place: b[i] is read before x[i] is written
+    for i in range(np.uint64(lo), np.uint64(hi)):
+        Du[i] -= xs[i]
+
+
+@njit(cache=True)
+def _dense_solve(m, A, b):
+    """Solve the small m x m system A y = b in place (partial pivoting); b becomes y.
+
+    One and two unknowns (most Newton iterations: one or two floors in
+    contact) are solved in closed form.
+    """
+    if m == 1:
+        b[0] /= A[0, 0]
+        return
+    if m == 2:
+        det = A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
+        if abs(det) > 1e-12 * (abs(A[0, 0] * A[1, 1]) + abs(A[0, 1] * A[1, 0])):
+            y0 = (b[0] * A[1, 1] - A[0, 1] * b[1]) / det
+            b[1] = (A[0, 0] * b[1] - A[1, 0] * b[0]) / det
+            b[0] = y0
+            return
+    for c in range(m):
+        piv = c
+        for r in range(c + 1, m):
+            if abs(A[r, c]) > abs(A[piv, c]):
+                piv = r
+        if piv != c:
+            for k in range(m):
+                tmp = A[c, k]
+                A[c, k] = A[piv, k]
+                A[piv, k] = tmp
+            tmp = b[c]
+            b[c] = b[piv]
+            b[piv] = tmp
+        for r in range(c + 1, m):
+            f = A[r, c] / A[c, c]
+            for k in range(c, m):
+                A[r, k] -= f * A[c, k]
+            b[r] -= f * b[c]
+    for c in range(m - 1, -1, -1):
+        s = b[c]
+        for k in range(c + 1, m):
+            s -= A[c, k] * b[k]
+        b[c] = s / A[c, c]
+
+
+@njit(cache=True)
+def _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd):
+    """Storey-spring forces fs = K u [N] and Rayleigh damping forces fd = C v [N]."""
+    _internal_range(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd, 0, mass.size, 0, el_i.size)
+
+
+@njit(cache=True, inline="always")
+def _internal_range(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd, lo, hi, elo, ehi):
+    """fs = K u and fd = C v on DOFs lo..hi-1 (whole blocks), whose elements are elo..ehi-1."""
+    # unsigned subscripts (``_UNSIGNED``); el_j < 0 is the ground
+    for i in range(np.uint64(lo), np.uint64(hi)):
+        fs[i] = 0.0
+        fd[i] = dof_a0[i] * mass[i] * v[i]
+    for e in range(np.uint64(elo), np.uint64(ehi)):
+        i = np.uint64(el_i[e])
+        jj = el_j[e]
+        du = u[i]
+        dv = v[i]
+        if jj >= 0:
+            j = np.uint64(jj)
+            du -= u[j]
+            dv -= v[j]
+        f = el_k[e] * du
+        c = el_a1[e] * el_k[e] * dv
+        fs[i] += f
+        fd[i] += c
+        if jj >= 0:
+            j = np.uint64(jj)
+            fs[j] -= f
+            fd[j] -= c
+
+
+@njit(cache=True)
+def _strain_energy(el_i, el_j, el_k, u):
+    """Strain energy 0.5 u^T K u of the storey springs [J], element by element."""
+    es = 0.0
+    for e in range(el_i.size):
+        du = u[el_i[e]]
+        if el_j[e] >= 0:
+            du -= u[el_j[e]]
+        es += 0.5 * el_k[e] * du * du
+    return es

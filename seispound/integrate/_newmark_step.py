@@ -1,0 +1,64 @@
+"""The Newmark step of the linear part: predictor with the contact forces frozen, and the corrector
+that accepts a step (state, peaks and the energy balance).
+
+Newmark 1959; Chopra, Dynamics of Structures, Sec. 5.4 and Table 5.7.2 (total form).
+Energy in the relative frame (Uang & Bertero 1990) by the trapezoidal rule on
+each force's work, which for average acceleration balances exactly.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ._linear import _internal_range, _solve_range
+
+
+@njit(cache=True, inline="always")
+def _accept_rows(lo, hi, cm, cc, mass, dof_motion, g0, g1, Du, Av, Vv, fint, u, v, a, umax, e_in, w_int):
+    """Accept a step of increment Du on DOFs lo..hi-1: state, peaks, energy; return (e_in, w_int).
+
+    Newmark (Chopra Table 5.7.2): a1 = cm Du + Av, v1 = cc Du + Vv.  The
+    storey + damping forces at the step end follow from equilibrium without
+    the contact terms (the caller adds those), and the input and internal
+    work are the trapezoidal rule over the step (module docstring), with g0
+    and g1 (nm,) the ground accelerations at its ends [m/s^2].
+    """
+    for i in range(np.uint64(lo), np.uint64(hi)):  # unsigned subscripts (``_UNSIGNED``)
+        du = Du[i]
+        ai = Av[i] + cm * du
+        gi1 = g1[dof_motion[i]]
+        f1 = -mass[i] * (gi1 + ai)
+        e_in -= 0.5 * mass[i] * (g0[dof_motion[i]] + gi1) * du
+        w_int += 0.5 * (fint[i] + f1) * du
+        fint[i] = f1
+        u[i] += du
+        v[i] = Vv[i] + cc * du
+        a[i] = ai
+        if abs(u[i]) > umax[i]:
+            umax[i] = abs(u[i])
+    return e_in, w_int
+
+
+@njit(cache=True, inline="always")
+def _linear_trial(lo, hi, elo, ehi, h, Lf, p, beta, gamma, mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1,
+                  g1, u, v, a, Av, Vv, fs, fd, R0, Du):
+    """Newmark predictor and linear increment of a step of size h [s] on DOFs lo..hi-1 (whole blocks).
+
+    Newmark (Chopra Table 5.7.2, total form): a1 = cm Du + Av, v1 = cc Du + Vv with
+    Av = -v / (beta h) - (1 / (2 beta) - 1) a and Vv = (1 - gamma / beta) v + h (1 - gamma / (2 beta)) a;
+    one element loop gives K u and C Vv, hence the residual R0 at Du = 0, and
+    Du = K_hat^-1 R0 is the step with every contact force zero.  Lf: K_hat(h)
+    factored on these rows; g1 (nm,): ground acceleration at the step end.
+    Returns sum (K u)_i u_i over the rows [J x 2] (twice the strain energy).
+    """
+    for i in range(np.uint64(lo), np.uint64(hi)):
+        Av[i] = -v[i] / (beta * h) - (0.5 / beta - 1.0) * a[i]
+        Vv[i] = (1.0 - gamma / beta) * v[i] + h * (1.0 - 0.5 * gamma / beta) * a[i]
+    _internal_range(mass, dof_a0, el_i, el_j, el_k, el_a1, u, Vv, fs, fd, lo, hi, elo, ehi)
+    es = 0.0
+    for i in range(np.uint64(lo), np.uint64(hi)):
+        R0[i] = -mass[i] * (g1[dof_motion[i]] + Av[i]) - fd[i] - fs[i]
+        es += fs[i] * u[i]
+    _solve_range(Lf, p, R0, Du, lo, hi)
+    return es

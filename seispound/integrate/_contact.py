@@ -30,6 +30,33 @@ ONSET_GRADING = 6
 
 
 @njit(cache=True, inline="always")
+def _gap_kinematics(xi, dxi, xj, dxj, vi, dvi, vj, dvj, size, gu, gv):
+    """Deformation of a gap element: penetration [m] and its rate [m/s], positive on approach.
+
+    delta = (x_i + u_g,i) - (x_j + u_g,j) - size, rate = (v_i + v_g,i) - (v_j + v_g,j):
+    x = xi + dxi, v = vi + dvi are the two floors' displacements and velocities
+    relative to the ground under each (i the left floor, j the right one; a
+    trial step passes its start and increment separately, summed here in one
+    fixed order so that every caller gets the same rounding); gu = u_g,i - u_g,j
+    and gv = v_g,i - v_g,j the differential ground motion (zero under one
+    ground motion), so that the penetration is that of the absolute positions.
+    """
+    return xi + dxi - xj - dxj - size + gu, vi + dvi - vj - dvj + gv
+
+
+@njit(cache=True, inline="always")
+def _gap_deformation(u, v, i, j, size, gu, gv):
+    """:func:`_gap_kinematics` of the gap between DOFs i and j for the state (u, v)."""
+    return _gap_kinematics(u[i], 0.0, u[j], 0.0, v[i], 0.0, v[j], 0.0, size, gu, gv)
+
+
+@njit(cache=True, inline="always")
+def _gap_trial(u, Du, Vv, cc, i, j, size, gu, gv):
+    """:func:`_gap_kinematics` at the end of a trial step: u + Du, velocity Vv + cc Du (Newmark's)."""
+    return _gap_kinematics(u[i], Du[i], u[j], Du[j], Vv[i], cc * Du[i], Vv[j], cc * Du[j], size, gu, gv)
+
+
+@njit(cache=True, inline="always")
 def _newton(lo, hi, act_list, Gm, dl, rl, Fm, cc, gap_law, gap_par, zeta, scale, rtol, max_iter,
             resv, kt, Sm, ym):
     """Newton-Raphson on the forces Fm[lo:hi] of one group of gaps in contact (module docstring).

@@ -13,7 +13,9 @@ import numpy as np
 from numba import njit
 
 from ..contact._scalar import NONE
+from ._contact import _gap_deformation
 from ._events import LAND_TOL, _event_in_step
+from ._ground import _gap_ground_at
 from ._outputs import E_CONTACT, E_DAMPING, E_INPUT, E_KINETIC, E_STRAIN
 
 # Free-flight blocks are marched, rebuilt and screened FREE_FLIGHT_CHUNK steps at a time.
@@ -101,7 +103,7 @@ def _block_energy(nb, Q, QV, DQ, P, f_start, md_w2, md_c, Eb):
 def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
                  md_start, md_blocks_t, md_block_off, md_phi_t, md_w2, md_c, md_gam, md_khinv, s_in, s_out,
                  mq, mqv, mqa, Q, QV, QA, DQ, P, U, V, f_start, Eb,
-                 dof_motion, gap_i, gap_j, gap_size, gap_law, d0, r0,
+                 dof_motion, gap_i, gap_j, gap_size, gap_law, moving, gap_ground, d0, r0,
                  u, v, a, umax, out_u, out_v, out_a, out_f, out_e, e_in, w_int, e_cont, es0):
     """March up to ``nblk`` analysis steps from step0 with every gap open, in modal coordinates.
 
@@ -176,11 +178,11 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
                 dp = d0[g]
                 rp = r0[g]
             else:
-                dp = Ub[k0 - 1, ii] - Ub[k0 - 1, jj] - gap_size[g]
-                rp = Vb[k0 - 1, ii] - Vb[k0 - 1, jj]
+                gu, gv = _gap_ground_at(moving, gap_ground, g, step0 + k0)
+                dp, rp = _gap_deformation(Ub[k0 - 1], Vb[k0 - 1], ii, jj, gap_size[g], gu, gv)
             for k in range(k0, min(n_acc + 1, k1)):
-                d1 = Ub[k, ii] - Ub[k, jj] - gap_size[g]
-                r1 = Vb[k, ii] - Vb[k, jj]
+                gu, gv = _gap_ground_at(moving, gap_ground, g, step0 + k + 1)
+                d1, r1 = _gap_deformation(Ub[k], Vb[k], ii, jj, gap_size[g], gu, gv)
                 tol = LAND_TOL * max(abs(rp), abs(r1)) * dt + 1e-15
                 th = _event_in_step(dp, rp, d1, r1, dt, True, tol)  # the physical path's test
                 if th < 2.0:
@@ -201,8 +203,8 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
             umax[i] = max(umax[i], abs(Ub[k, i]))
     kl = n_acc - 1
     for g in range(ng):
-        d0[g] = Ub[kl, gap_i[g]] - Ub[kl, gap_j[g]] - gap_size[g]
-        r0[g] = Vb[kl, gap_i[g]] - Vb[kl, gap_j[g]]
+        gu, gv = _gap_ground_at(moving, gap_ground, g, step0 + n_acc)
+        d0[g], r0[g] = _gap_deformation(Ub[kl], Vb[kl], gap_i[g], gap_j[g], gap_size[g], gu, gv)
     if store:
         _rows_from_modal(md_start, md_blocks_t, md_block_off, md_phi_t, QA, n_acc,
                          out_a[step0 + 1:step0 + 1 + n_acc], s_in, s_out)

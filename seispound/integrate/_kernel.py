@@ -89,10 +89,18 @@ from numba import njit
 
 from ..contact._scalar import NIVE, NONE, contact_force
 from ._borrow import borrow, keep_alive
-from ._contact import ONSET_GRADING, _begin_impact, _group_contacts, _newton
+from ._contact import (
+    ONSET_GRADING,
+    _begin_impact,
+    _gap_deformation,
+    _gap_kinematics,
+    _gap_trial,
+    _group_contacts,
+    _newton,
+)
 from ._events import LAND_TOL, _event_in_step
 from ._free_flight import _block_matvec, _free_flight
-from ._ground import _ground_all
+from ._ground import GU0, GU1, GV0, GV1, _gap_ground_accept, _gap_ground_all, _gap_ground_at, _ground_all
 from ._linear import (
     SEMISEPARABLE_GAPS,
     _compliance_tridiagonal,
@@ -134,7 +142,7 @@ from ._outputs import (  # noqa: F401 (re-exported)
 @njit(cache=True)
 def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                      u_init, v_init, gap_i, gap_j, gap_lo, gap_hi, gap_size, gap_law, gap_par,
-                     ag, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store,
+                     ag, moving, gap_ground, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store,
                      use_modal, md_start, md_blocks_t, md_block_off, md_phi_t, md_phi_tm, md_w2, md_c,
                      md_gam, nblk, multirate, wait_share, blk_dof, blk_el,
                      out_u, out_v, out_a, out_f, out_e, umax, fmax,
@@ -161,12 +169,17 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     provided they hold at least ``wait_share`` of the DOFs (WAIT_SHARE).
     blk_dof, blk_el : (nb + 1,) first DOF and first element of each block
     (building); the elements of a block are contiguous.
+    moving : some gap's two sides stand on different ground motions;
+    gap_ground : (3, ng, nt) the differential ground acceleration, velocity
+    and displacement of each gap at the samples (``_ground._gap_ground``);
+    (3, ng, 1) and unused when ``moving`` is False.
     """
     # arguments: alive for the whole call, so borrowed (``_borrow``: no reference counting in the loop)
     mass, dof_a0, dof_motion, el_i = borrow(mass), borrow(dof_a0), borrow(dof_motion), borrow(el_i)
     el_j, el_k, el_a1, u_init, v_init = borrow(el_j), borrow(el_k), borrow(el_a1), borrow(u_init), borrow(v_init)
     gap_i, gap_j, gap_lo, gap_hi = borrow(gap_i), borrow(gap_j), borrow(gap_lo), borrow(gap_hi)
     gap_size, gap_law, gap_par, ag = borrow(gap_size), borrow(gap_law), borrow(gap_par), borrow(ag)
+    gap_ground = borrow(gap_ground)
     md_start, md_blocks_t, md_block_off = borrow(md_start), borrow(md_blocks_t), borrow(md_block_off)
     md_phi_t, md_phi_tm, md_w2, md_c = borrow(md_phi_t), borrow(md_phi_tm), borrow(md_w2), borrow(md_c)
     md_gam, blk_dof, blk_el, out_u = borrow(md_gam), borrow(blk_dof), borrow(blk_el), borrow(out_u)
@@ -248,6 +261,10 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     r0 = np.empty(ng)
     d_end = np.empty(ng)  # ... at the end of the trial step (swapped in on acceptance)
     r_end = np.empty(ng)
+    # differential ground displacement and velocity of every gap at t (rows GU0, GV0) and at the end of
+    # the trial step (GU1, GV1); zero under one ground motion.  (One array, not four: each live array
+    # in the time loop costs registers in its hot loops.)
+    gk = np.zeros((4, ng))
     g_t = np.empty(nm)  # ground acceleration at t, per motion row
     # -- multi-rate stepping: buildings that step (in_s) and that wait ------
     nbk = blk_dof.size - 1
@@ -321,9 +338,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     owners = (L_lev, have_lev, h_lev, L_h, u, v, a, fint, fs, fd, Du, R0, Av, Vv, sig_h, Sd_h, Wc_level, Wc_scratch,
               batch, Wc_ok_level, Wc_ok_scratch, dofs, order, pos, span, Kd, xs, Sm, Gm, ym, Fm, dl, rl, resv,
               act_list, comp_off, toggles, land_too, active, zeta, hsub, age, cur_imp, F, F1, F_old, h_old, kt, d0,
-              r0, d_end, r_end, g_t, dof_blk, gb_lo, gb_hi, in_s, was_s, r_lo, r_hi, r_elo, r_ehi, w_lo, w_hi,
-              w_elo, w_ehi, scr, g_w0, g_w1, du_w, u_w1, v_w1, a_w1, L_w, zero_n, g_1, mq, mqv, mqa, Qb, QVb, QAb,
-              DQb, Pb, Ub, Vb, f_start, s_in, s_out, Eb, md_khinv)
+              r0, d_end, r_end, gk, g_t, dof_blk, gb_lo, gb_hi, in_s, was_s, r_lo, r_hi, r_elo, r_ehi,
+              w_lo, w_hi, w_elo, w_ehi, scr, g_w0, g_w1, du_w, u_w1, v_w1, a_w1, L_w, zero_n, g_1, mq, mqv, mqa, Qb,
+              QVb, QAb, DQb, Pb, Ub, Vb, f_start, s_in, s_out, Eb, md_khinv)
     L_lev, have_lev, h_lev, L_h, u = borrow(L_lev), borrow(have_lev), borrow(h_lev), borrow(L_h), borrow(u)
     v, a, fint, fs, fd, Du, R0 = borrow(v), borrow(a), borrow(fint), borrow(fs), borrow(fd), borrow(Du), borrow(R0)
     Av, Vv, sig_h, Sd_h, Wc_level = borrow(Av), borrow(Vv), borrow(sig_h), borrow(Sd_h), borrow(Wc_level)
@@ -335,6 +352,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     zeta, hsub, age, cur_imp, F = borrow(zeta), borrow(hsub), borrow(age), borrow(cur_imp), borrow(F)
     F1, F_old, h_old, kt, d0, r0 = borrow(F1), borrow(F_old), borrow(h_old), borrow(kt), borrow(d0), borrow(r0)
     d_end, r_end, g_t, dof_blk, gb_lo = borrow(d_end), borrow(r_end), borrow(g_t), borrow(dof_blk), borrow(gb_lo)
+    gk = borrow(gk)
     gb_hi, in_s, was_s, r_lo, r_hi = borrow(gb_hi), borrow(in_s), borrow(was_s), borrow(r_lo), borrow(r_hi)
     r_elo, r_ehi, w_lo, w_hi, w_elo = borrow(r_elo), borrow(r_ehi), borrow(w_lo), borrow(w_hi), borrow(w_elo)
     w_ehi, scr, g_w0, g_w1, du_w = borrow(w_ehi), borrow(scr), borrow(g_w0), borrow(g_w1), borrow(du_w)
@@ -356,8 +374,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     for g in range(ng):
         if gap_law[g] == NONE:
             continue
-        dg = u[gap_i[g]] - u[gap_j[g]] - gap_size[g]
-        rg = v[gap_i[g]] - v[gap_j[g]]
+        dg, rg = _gap_deformation(u, v, gap_i[g], gap_j[g], gap_size[g], 0.0, 0.0)
         if dg > 0.0 or (dg == 0.0 and rg > 0.0):
             if n_imp >= cap:
                 return IMPACT_CAPACITY, n_imp, t
@@ -376,8 +393,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     for g in range(ng):
         F[g] = 0.0
         if active[g]:
-            dg = u[gap_i[g]] - u[gap_j[g]] - gap_size[g]
-            rg = v[gap_i[g]] - v[gap_j[g]]
+            dg, rg = _gap_deformation(u, v, gap_i[g], gap_j[g], gap_size[g], 0.0, 0.0)
             F[g] = contact_force(gap_law[g], gap_par[g], dg, rg, zeta[g])[0]
             a[gap_i[g]] -= F[g] / mass[gap_i[g]]
             a[gap_j[g]] += F[g] / mass[gap_j[g]]
@@ -401,8 +417,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     pending = -1  # output row still waiting for its strain energy
     m_act = 0  # gaps in contact, listed in act_list (kept up to date at events)
     for g in range(ng):
-        d0[g] = u[gap_i[g]] - u[gap_j[g]] - gap_size[g]
-        r0[g] = v[gap_i[g]] - v[gap_j[g]]
+        d0[g], r0[g] = _gap_deformation(u, v, gap_i[g], gap_j[g], gap_size[g], 0.0, 0.0)
         if active[g]:
             act_list[m_act] = g
             m_act += 1
@@ -430,7 +445,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 step, nsteps, min(blk, nblk), dt, beta, gamma, ag, store,
                 md_start, md_blocks_t, md_block_off, md_phi_t, md_w2, md_c, md_gam, md_khinv, s_in, s_out,
                 mq, mqv, mqa, Qb, QVb, QAb, DQb, Pb, Ub, Vb, f_start, Eb,
-                dof_motion, gap_i, gap_j, gap_size, gap_law, d0, r0,
+                dof_motion, gap_i, gap_j, gap_size, gap_law, moving, gap_ground, d0, r0,
                 u, v, a, umax, out_u, out_v, out_a, out_f, out_e, e_in, w_int, e_cont, es0)
             stats[S_STEPS] += n_acc
             stats[S_FREE_FLIGHT] += n_acc
@@ -439,6 +454,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
             step += n_acc
             t = step * dt
             _ground_all(ag, t, dt, g_t)
+            if moving:
+                _gap_ground_all(gap_ground, t, dt, gk, GU0)
             if n_acc > 0:
                 for i in range(n):  # storey + damping forces from equilibrium (no contact)
                     fint[i] = -mass[i] * (g_t[dof_motion[i]] + a[i])
@@ -493,8 +510,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         continue
                     ii = gap_i[g]
                     jj = gap_j[g]
-                    d1 = u_w1[ii] - u_w1[jj] - gap_size[g]
-                    r1 = v_w1[ii] - v_w1[jj]
+                    gu, gv = _gap_ground_at(moving, gap_ground, g, step + 1)
+                    d1, r1 = _gap_deformation(u_w1, v_w1, ii, jj, gap_size[g], gu, gv)
                     tol = LAND_TOL * max(abs(r0[g]), abs(r1)) * dt + 1e-15
                     if _event_in_step(d0[g], r0[g], d1, r1, dt, True, tol) < 2.0:
                         for b in range(gb_lo[g], gb_hi[g]):
@@ -592,6 +609,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         g_1[r] = ag[r, step + 1]
                 else:
                     _ground_all(ag, t + h, dt, g_1)
+                if moving:
+                    _gap_ground_all(gap_ground, t + h, dt, gk, GU1)
                 # the step with every contact force frozen at zero, on the stepping buildings' runs
                 # (exact when no gap is closed)
                 es = 0.0
@@ -674,8 +693,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         g = act_list[q]
                         ii = gap_i[g]
                         jj = gap_j[g]
-                        dl[q] = u[ii] + Du[ii] - u[jj] - Du[jj] - gap_size[g]
-                        rl[q] = Vv[ii] + cc * Du[ii] - Vv[jj] - cc * Du[jj]
+                        dl[q], rl[q] = _gap_trial(u, Du, Vv, cc, ii, jj, gap_size[g], gk[GU1, g], gk[GV1, g])
                         Fm[q] = F[g]  # start from the force at the start of the step,
                         if age[g] >= 1:  # extrapolated along the last accepted substep
                             Fm[q] += (F[g] - F_old[g]) * (h / h_old[g])
@@ -721,8 +739,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 if target >= 0:
                     ii = gap_i[target]
                     jj = gap_j[target]
-                    dtg = u[ii] + Du[ii] - u[jj] - Du[jj] - gap_size[target]
-                    rtg = Vv[ii] + cc * Du[ii] - Vv[jj] - cc * Du[jj]
+                    dtg, rtg = _gap_trial(u, Du, Vv, cc, ii, jj, gap_size[target], gk[GU1, target], gk[GV1, target])
                     landed = abs(dtg) <= LAND_TOL * max(abs(rtg), abs(r0[target])) * h + 1e-15
                 theta = 2.0
                 g_ev = -1
@@ -760,8 +777,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         else:
                             xj = wu0 * u[jj] + wv0 * v[jj] + wu1 * u_w1[jj] + wv1 * v_w1[jj]
                             vj = xu * (u[jj] - u_w1[jj]) + xv0 * v[jj] + xv1 * v_w1[jj]
-                        d_end[g] = xi - xj - gap_size[g]
-                        r_end[g] = vi - vj
+                        d_end[g], r_end[g] = _gap_kinematics(xi, 0.0, xj, 0.0, vi, 0.0, vj, 0.0, gap_size[g],
+                                                             gk[GU1, g], gk[GV1, g])
                 # screen every gap (or, while some building waits, those in the list scr: the
                 # gaps with a stepping side; scr[n_ss:] have a waiting side, computed above)
                 for qq in range(n_scr if waiting else ng):
@@ -773,8 +790,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     else:
                         ii = np.uint64(gap_i[g])
                         jj = np.uint64(gap_j[g])
-                        d1 = u[ii] + Du[ii] - u[jj] - Du[jj] - gap_size[g]
-                        r1 = Vv[ii] + cc * Du[ii] - Vv[jj] - cc * Du[jj]
+                        d1, r1 = _gap_trial(u, Du, Vv, cc, ii, jj, gap_size[g], gk[GU1, g], gk[GV1, g])
                     d_end[g] = d1
                     r_end[g] = r1
                     if gap_law[g] == NONE or (landed and g == target):
@@ -860,7 +876,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 for qq in range(n_scr):  # gap states at t: the joined buildings are there now
                     g = scr[qq]
                     d0[g], r0[g] = _gap_state(g, s0, dt, in_s, dof_blk, gap_i, gap_j, gap_size, u, v, u_w1, v_w1,
-                                              zero_n, v, 0.0)
+                                              zero_n, v, 0.0, gk[GU0, g], gk[GV0, g])
                 continue
             if not located:
                 return NEWTON_FAILED, n_imp, t
@@ -904,6 +920,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     t = t_end  # no round-off drift of the clock across analysis steps
                 for r in range(nm):
                     g_t[r] = g_1[r]
+                if moving:
+                    _gap_ground_accept(gk)
                 if landed:
                     toggles[0] = target
                     n_tog = 1
@@ -913,11 +931,10 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
             for k_t in range(n_tog):
                 # ---- switch gap g: onset or end of an impact --------------------
                 g = toggles[k_t]
-                rg = v[gap_i[g]] - v[gap_j[g]]
+                dg, rg = _gap_deformation(u, v, gap_i[g], gap_j[g], gap_size[g], gk[GU0, g], gk[GV0, g])
                 if not active[g]:
                     if n_imp >= cap:
                         return IMPACT_CAPACITY, n_imp, t
-                    dg = u[gap_i[g]] - u[gap_j[g]] - gap_size[g]
                     F[g] = _begin_impact(g, t, dg, rg, gap_law[g], gap_par[g], n_sub, active, zeta, hsub,
                                          age, cur_imp, n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_fmax,
                                          imp_dur, imp_vout)
@@ -960,8 +977,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                                               u, v, a, fint, umax, e_in, w_int)
             for g in range(ng):
                 if not (in_s[dof_blk[gap_i[g]]] and in_s[dof_blk[gap_j[g]]]):
-                    d0[g] = u[gap_i[g]] - u[gap_j[g]] - gap_size[g]
-                    r0[g] = v[gap_i[g]] - v[gap_j[g]]
+                    d0[g], r0[g] = _gap_deformation(u, v, gap_i[g], gap_j[g], gap_size[g], gk[GU0, g], gk[GV0, g])
             waiting = False
         # ---- output at the analysis step ---------------------------------------
         step += 1

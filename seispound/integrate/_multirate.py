@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ._contact import _gap_kinematics
 from ._newmark_step import _linear_trial
 
 # Buildings wait (multi-rate stepping) by default only when they hold at least this share
@@ -81,12 +82,12 @@ def _waiting_commit(lo, hi, mass, dof_motion, g0, g1, du_w, v_w1, a_w1, u, v, a,
 
 
 @njit(cache=True)
-def _gap_state(g, s, dt, in_s, dof_blk, gap_i, gap_j, gap_size, u, v, u_w1, v_w1, Du, Vv, cc):
+def _gap_state(g, s, dt, in_s, dof_blk, gap_i, gap_j, gap_size, u, v, u_w1, v_w1, Du, Vv, cc, gu, gv):
     """Penetration [m] and its rate [m/s] of gap g when some building waits.
 
     A stepping side is at u + Du with velocity Vv + cc Du (the trial step's
     end; Du = 0, Vv = v, cc = 0 for the current state), a waiting side at
-    fraction s of its own step (``_waiting_state``).
+    fraction s of its own step (``_waiting_state``); gu, gv: the gap's differential ground motion then.
     """
     ii = gap_i[g]
     jj = gap_j[g]
@@ -100,7 +101,7 @@ def _gap_state(g, s, dt, in_s, dof_blk, gap_i, gap_j, gap_size, u, v, u_w1, v_w1
         vj = Vv[jj] + cc * Du[jj]
     else:
         xj, vj = _waiting_state(jj, s, dt, u, v, u_w1, v_w1)
-    return xi - xj - gap_size[g], vi - vj
+    return _gap_kinematics(xi, 0.0, xj, 0.0, vi, 0.0, vj, 0.0, gap_size[g], gu, gv)
 
 
 @njit(cache=True)

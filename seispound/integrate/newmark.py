@@ -67,6 +67,35 @@ def _element_blocks(system) -> tuple[np.ndarray | None, np.ndarray | None]:
     return starts.astype(np.int64), el_start
 
 
+def ground_motion_integrals(ag, dt):
+    """Ground velocity [m/s] and displacement [m] of each motion row at the samples, shapes (nm, nt).
+
+    Exact integrals, from rest at t = 0, of the acceleration as the kernel sees
+    it, linear between samples: v_k+1 = v_k + dt (a_k + a_k+1) / 2,
+    u_k+1 = u_k + dt v_k + dt^2 (a_k / 3 + a_k+1 / 6).
+    """
+    ag = np.atleast_2d(ag)
+    vg = np.zeros_like(ag)
+    ug = np.zeros_like(ag)
+    vg[:, 1:] = np.cumsum(0.5 * dt * (ag[:, :-1] + ag[:, 1:]), axis=1)
+    ug[:, 1:] = np.cumsum(dt * vg[:, :-1] + dt * dt * (ag[:, :-1] / 3.0 + ag[:, 1:] / 6.0), axis=1)
+    return vg, ug
+
+
+def gap_ground_motion(row_i, row_j, ag, dt):
+    """Differential ground acceleration, velocity and displacement of each gap, shape (3, ng, nt).
+
+    ``row_i``, ``row_j`` (ng,): the motion row under each gap's left and right
+    floor.  When every gap has the same row on both sides, zeros of shape
+    (3, ng, 1) (the kernel then skips the ground terms: ``moving`` False).
+    """
+    ng = row_i.size
+    if np.array_equal(row_i, row_j):
+        return np.zeros((3, ng, 1))
+    vg, ug = ground_motion_integrals(ag, dt)
+    return np.ascontiguousarray(np.stack([ag[row_i] - ag[row_j], vg[row_i] - vg[row_j], ug[row_i] - ug[row_j]]))
+
+
 _BASES: dict = {}
 _BLOCKS: dict = {}
 
@@ -165,6 +194,8 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         blk_el = np.array([0, system.el_i.size], np.int64)
     # room for every impact up front: a catalogue overflow reruns the whole integration
     cap = impact_capacity or max(256, nsteps // 4 + 16 * ng)
+    ground = gap_ground_motion(system.dof_motion[gap_i], system.dof_motion[gap_j], ag, dt)
+    moving = ground.shape[2] > 1
     nt = nsteps + 1 if store_history else 1
     basis = _cached_basis(system) if free_flight else None
     if basis is not None:
@@ -190,7 +221,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         status, n_imp, t_reached = K.integrate_kernel(
             system.mass, system.dof_a0, system.dof_motion, system.el_i, system.el_j, system.el_k,
             system.el_a1, int(system.bandwidth), system.u0, system.v0, gap_i, gap_j, gap_lo, gap_hi,
-            gap_size, gap_law, np.ascontiguousarray(gap_par), np.ascontiguousarray(ag), float(dt),
+            gap_size, gap_law, np.ascontiguousarray(gap_par), np.ascontiguousarray(ag), moving, ground, float(dt),
             int(nsteps), float(nm.beta), float(nm.gamma), int(nm.contact_substeps), float(nm.rtol),
             int(nm.max_iter), bool(store_history), *md,
             bool(multirate), float(wait_share), blk_dof, blk_el, **out)

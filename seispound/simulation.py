@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -11,33 +12,112 @@ import xarray as xr
 from .errors import InputError
 from .integrate import integrate
 
-__all__ = ["simulate", "prepare_ground_motion"]
+__all__ = ["simulate", "prepare_ground_motion", "prepare_ground_motions", "run_inputs", "GroundMotions"]
 
 
 def prepare_ground_motion(model):
-    """Ground acceleration on the analysis grid [m/s^2], shape (nsteps + 1,), and its provenance.
+    """Ground acceleration of the row's record on the analysis grid [m/s^2], shape (nsteps + 1,), and its provenance.
 
     Free vibration (no ``[ground_motion]``) gives zeros and provenance None.
     """
     an = model.analysis
+    if model.ground_motion is None:
+        return np.zeros(an.nsteps + 1), None
+    return _prepare_record(model.ground_motion, model, "ground_motion")
+
+
+def _prepare_record(spec, model, section):
+    """A record (file or samples) on the model's analysis grid; errors name ``section``.<setting>."""
+    an = model.analysis
     nsteps = an.nsteps
-    spec = model.ground_motion
-    if spec is None:
-        return np.zeros(nsteps + 1), None
     if spec.samples is not None:
-        return _prepare_samples(spec, an.dt, nsteps)
+        return _prepare_samples(spec, an.dt, nsteps, section)
     try:
         st = spec.file.stat()
     except OSError:
-        raise InputError("record file not found", file=spec.file, key="ground_motion.file") from None
+        raise InputError("record file not found", file=spec.file, key=f"{section}.file") from None
     key = (str(spec.file), st.st_mtime_ns, st.st_size, spec.trace, spec.units, spec.calibration, spec.scale,
            spec.baseline, spec.format, spec.dt, an.dt, nsteps)
     try:
         ag, prov = _read_prepared(*key)
     except _SettingError as err:
+        where = section if err.section == "ground_motion" else err.section
         raise InputError(f"{err.message} (record {err.record})", file=model.source,
-                         key=f"{err.section}.{err.key}") from None
+                         key=f"{where}.{err.key}") from None
     return ag.copy(), dict(prov)
+
+
+@dataclass
+class GroundMotions:
+    """The ground motions of a run on the analysis grid.
+
+    Attributes
+    ----------
+    rows : ndarray, shape (nm, nt)
+        Distinct ground accelerations [m/s^2]; row 0 is the row's record (zeros without one).
+    row_of : ndarray, shape (nb,)
+        The row under each building, left to right.
+    provenance : dict or None
+        The row's record's provenance (``motion.record.on_analysis_grid``).
+    per_building : list of (dict or None)
+        Each building's own motion (its record's provenance, delay, filter steps), None for the row's.
+    """
+
+    rows: np.ndarray
+    row_of: np.ndarray
+    provenance: dict | None
+    per_building: list
+
+    @property
+    def uniform(self) -> bool:
+        return self.rows.shape[0] == 1
+
+    def dof_motion(self, system) -> np.ndarray:
+        """The ground-motion row of every DOF of ``system``, shape (n,)."""
+        return self.row_of[system.dof_building].astype(np.int64)
+
+
+def run_inputs(model):
+    """What a run integrates: the assembled row, its DOFs on their buildings' ground motions, and the motions.
+
+    Validates and assembles once (``Model.assembled``); shared by :func:`simulate`
+    and the study worker.  Returns (SystemArrays, GroundMotions).
+    """
+    system = model.assembled()
+    motions = prepare_ground_motions(model)
+    if not motions.uniform:
+        system = replace(system, dof_motion=motions.dof_motion(system))
+    return system, motions
+
+
+def prepare_ground_motions(model) -> GroundMotions:
+    """The row's record and each building's own motion (``[[building]] ground_motion``) on the analysis grid.
+
+    A building's motion is the row's record (or its own file) delayed and low-passed
+    (:func:`seispound.motion.spatial.variant`); motions equal to one already
+    prepared share its row, so a zero delay without a filter is the uniform case.
+    """
+    from .motion.spatial import variant
+
+    ag, prov = prepare_ground_motion(model)
+    rows, row_of, per_building = [ag], [], []
+    for b, m in zip(model.buildings, model.building_motions()):
+        if m is None:
+            row_of.append(0)
+            per_building.append(None)
+            continue
+        key = f"building.{b.name}.ground_motion"
+        base, bprov = (ag, prov) if m.record is None else _prepare_record(m.record, model, key)
+        samples, steps = variant(base, model.analysis.dt, m.delay, m.lowpass, m.lowpass_order, key=key)
+        same = [r for r, x in enumerate(rows) if np.array_equal(x, samples)]
+        if same:
+            row_of.append(same[0])
+        else:
+            rows.append(samples)
+            row_of.append(len(rows) - 1)
+        per_building.append({"record": bprov if m.record is not None else "the row's record", "delay_s": m.delay,
+                             "lowpass_hz": m.lowpass, "lowpass_order": m.lowpass_order, "steps": steps})
+    return GroundMotions(np.vstack(rows), np.asarray(row_of, np.int64), prov, per_building)
 
 
 @functools.lru_cache(maxsize=32)
@@ -73,7 +153,7 @@ def _to_grid(rec, baseline, dt, nsteps):
     return on_analysis_grid(rec, dt, nsteps * dt)
 
 
-def _prepare_samples(spec, dt, nsteps):
+def _prepare_samples(spec, dt, nsteps, section="ground_motion"):
     """A ground motion given in memory (GroundMotionSpec.from_array / from_trace) on the analysis grid."""
     from .motion.record import record_from_samples
 
@@ -82,7 +162,7 @@ def _prepare_samples(spec, dt, nsteps):
                                   scale=spec.scale, source=spec.source or "numpy array")
         rec = _to_grid(rec, spec.baseline, dt, nsteps)
     except InputError as err:
-        raise InputError(err.message, file=err.file, key=f"ground_motion.{err.key}") from None
+        raise InputError(err.message, file=err.file, key=f"{section}.{err.key}") from None
     return np.array(rec.acceleration), dict(rec.provenance)
 
 
@@ -120,18 +200,21 @@ def simulate(model, *, twin: bool = True, force: bool = False) -> xr.Dataset:
     from .plausibility import check_after_run, check_before_run, issue, to_json
     from .results import build_dataset
 
-    system = model.assembled()  # validated as the file reader validates, assembled once
-    ag, prov = prepare_ground_motion(model)
+    system, motions = run_inputs(model)  # validated as the file reader validates, assembled once
+    ag, prov = motions.rows[0], motions.provenance
     findings = check_before_run(model, prov, ag)
+    for i, own in enumerate(motions.per_building):  # a building's own record is checked as the row's is
+        if own is not None and isinstance(own["record"], dict):
+            findings += check_before_run(model, own["record"], motions.rows[motions.row_of[i]])
     issue(findings, force=force, file=model.source)
     an = model.analysis
-    raw = integrate(system, ag, an.dt, an.nsteps, an.newmark)
+    raw = integrate(system, motions.rows, an.dt, an.nsteps, an.newmark)
     _check_finite(raw, an.dt)
     raw0 = None
     if twin:  # with histories: its peak accelerations, drifts and storey shears (results/peaks.py)
-        raw0 = integrate(system.without_contact(), ag, an.dt, an.nsteps, an.newmark)
+        raw0 = integrate(system.without_contact(), motions.rows, an.dt, an.nsteps, an.newmark)
         _check_finite(raw0, an.dt, what="the no-pounding twin")
-    ds = build_dataset(model, system, raw, raw0, ag, prov, __version__)
+    ds = build_dataset(model, system, raw, raw0, ag, prov, __version__, motions=motions)
     after = check_after_run(ds)
     issue(after, force=True)
     ds.attrs["plausibility"] = to_json(findings + after)

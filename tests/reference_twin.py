@@ -257,7 +257,7 @@ def shear_matrices(masses, stiffness, a0=0.0, a1=0.0):
 
 def simulate_reference(masses, K, C, gaps, ag_func, t_end, v0, u0=None, t_eval=None,
                        method="LSODA", rtol=1e-10, atol=None, max_step=np.inf,
-                       breakpoints=None, dense_points=64):
+                       breakpoints=None, dense_points=64, ground_per_dof=False):
     """Integrate M u'' + C u' + K u + B f_c(u, u') = -M 1 a_g(t) with event-located contact.
 
     The first-order system y' = [v, M^-1 (-M 1 a_g - C v - K u - B f_c)] is
@@ -297,6 +297,12 @@ def simulate_reference(masses, K, C, gaps, ag_func, t_end, v0, u0=None, t_eval=N
         a_g), so that no integrator step straddles one.
     dense_points : int
         Dense-output samples per integrator step used for the peaks.
+    ground_per_dof : bool
+        ``ag_func`` returns one ground acceleration per DOF, shape (n,) (each
+        building on its own ground).  The ground displacement and velocity
+        under every DOF are then integrated as 2n more states of the same ODE
+        (u_g' = v_g, v_g' = a_g), and a gap's penetration is that of the
+        absolute positions: u_i + u_g,i - u_j - u_g,j - size.
 
     Returns
     -------
@@ -308,10 +314,12 @@ def simulate_reference(masses, K, C, gaps, ag_func, t_end, v0, u0=None, t_eval=N
     C = np.asarray(C, float)
     u_init = np.zeros(n) if u0 is None else np.asarray(u0, float)
     y = np.concatenate([u_init, np.asarray(v0, float) * np.ones(n)])
+    if ground_per_dof:
+        y = np.concatenate([y, np.zeros(2 * n)])
     ng = len(gaps)
     t_eval = np.array([0.0, t_end]) if t_eval is None else np.asarray(t_eval, float)
     if atol is None:
-        atol = np.concatenate([np.full(n, 1e-14), np.full(n, 1e-12)])
+        atol = np.concatenate([np.full(n, 1e-14), np.full(n, 1e-12)] * (2 if ground_per_dof else 1))
     bps = np.array([] if breakpoints is None else breakpoints, float)
     bps = np.unique(bps[(bps > 0.0) & (bps < t_end)])
 
@@ -322,7 +330,11 @@ def simulate_reference(masses, K, C, gaps, ag_func, t_end, v0, u0=None, t_eval=N
 
     def delta_rate(g, yy):
         gp = gaps[g]
-        return (yy[gp.i] - yy[gp.j] - gp.size, yy[n + gp.i] - yy[n + gp.j])
+        d, r = yy[gp.i] - yy[gp.j] - gp.size, yy[n + gp.i] - yy[n + gp.j]
+        if ground_per_dof:
+            d += yy[2 * n + gp.i] - yy[2 * n + gp.j]
+            r += yy[3 * n + gp.i] - yy[3 * n + gp.j]
+        return d, r
 
     def gap_force(g, yy):
         if not closed[g]:
@@ -357,13 +369,16 @@ def simulate_reference(masses, K, C, gaps, ag_func, t_end, v0, u0=None, t_eval=N
 
     def rhs(t, yy):
         u = yy[:n]
-        v = yy[n:]
-        f = -m * ag_func(t) - C @ v - K @ u
+        v = yy[n:2 * n]
+        ag = ag_func(t)
+        f = -m * ag - C @ v - K @ u
         for g in range(ng):
             if closed[g]:
                 F = gap_force(g, yy)
                 f[gaps[g].i] -= F
                 f[gaps[g].j] += F
+        if ground_per_dof:
+            return np.concatenate([v, f / m, yy[3 * n:], ag])
         return np.concatenate([v, f / m])
 
     def make_event(g):
@@ -404,7 +419,7 @@ def simulate_reference(masses, K, C, gaps, ag_func, t_end, v0, u0=None, t_eval=N
         if sel.any():
             ys = sol.sol(t_eval[sel])
             out_u[sel] = ys[:n].T
-            out_v[sel] = ys[n:].T
+            out_v[sel] = ys[n:2 * n].T
             for g in range(ng):
                 out_f[sel, g] = [gap_force(g, ys[:, q]) for q in range(ys.shape[1])]
             done |= sel

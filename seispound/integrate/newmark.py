@@ -9,6 +9,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..model.analysis import Newmark
+from ..motion.spatial import ground_motion_integrals
 from . import _kernel as K
 from ._multirate import WAIT_SHARE
 from .modal import dof_blocks, modal_basis
@@ -65,21 +66,6 @@ def _element_blocks(system) -> tuple[np.ndarray | None, np.ndarray | None]:
         return None, None
     el_start = np.searchsorted(blk, np.arange(starts.size), side="left").astype(np.int64)
     return starts.astype(np.int64), el_start
-
-
-def ground_motion_integrals(ag, dt):
-    """Ground velocity [m/s] and displacement [m] of each motion row at the samples, shapes (nm, nt).
-
-    Exact integrals, from rest at t = 0, of the acceleration as the kernel sees
-    it, linear between samples: v_k+1 = v_k + dt (a_k + a_k+1) / 2,
-    u_k+1 = u_k + dt v_k + dt^2 (a_k / 3 + a_k+1 / 6).
-    """
-    ag = np.atleast_2d(ag)
-    vg = np.zeros_like(ag)
-    ug = np.zeros_like(ag)
-    vg[:, 1:] = np.cumsum(0.5 * dt * (ag[:, :-1] + ag[:, 1:]), axis=1)
-    ug[:, 1:] = np.cumsum(dt * vg[:, :-1] + dt * dt * (ag[:, :-1] / 3.0 + ag[:, 1:] / 6.0), axis=1)
-    return vg, ug
 
 
 def gap_ground_motion(row_i, row_j, ag, dt):

@@ -9,7 +9,7 @@ from pathlib import Path
 from ..errors import InputError
 from .analysis import Analysis
 
-__all__ = ["Analysis", "GroundMotionSpec", "Model"]
+__all__ = ["Analysis", "BuildingMotion", "GroundMotionSpec", "Model"]
 
 
 @dataclass
@@ -47,6 +47,7 @@ class GroundMotionSpec:
     dt: float | None = None
     samples: object = None  # in-memory samples (from_array / from_trace); file is then None
     source: str = ""
+    apparent_velocity: float | None = None  # m/s: delay of each building = its position / this
 
     @classmethod
     def from_array(cls, acceleration, dt: float, *, units: str, scale: float = 1.0, baseline=None,
@@ -83,6 +84,51 @@ class GroundMotionSpec:
         """A ground motion from an ``obspy.Trace`` (its data at ``trace.stats.delta``; units required)."""
         return cls.from_array(trace.data, trace.stats.delta, units=units, scale=scale, baseline=baseline,
                               calibration=calibration, name=f"obspy.Trace {trace.id}")
+
+
+@dataclass
+class BuildingMotion:
+    """The ground motion under one building, when it differs from the row's (``[[building]] ground_motion``).
+
+    Parameters
+    ----------
+    delay : float
+        Arrival time after the row's record [s] (wave passage; may be negative).
+    lowpass : float, optional
+        Cut-off [Hz] of a zero-phase Butterworth low-pass (loss of coherency).
+    lowpass_order : int
+        Poles of the filter, applied forward and backward (default 2).
+    record : GroundMotionSpec, optional
+        A record of the building's own instead of the row's (then delayed and
+        low-passed as above, if asked).
+
+    See :mod:`seispound.motion.spatial`.
+    """
+
+    delay: float = 0.0
+    lowpass: float | None = None
+    lowpass_order: int = 2
+    record: GroundMotionSpec | None = None
+
+    def validate(self, key: str) -> None:
+        if not _finite(self.delay):
+            raise InputError(f"must be a finite number of seconds, got {self.delay!r}", key=f"{key}.delay")
+        if self.lowpass is not None and (not _finite(self.lowpass) or not self.lowpass > 0):
+            raise InputError(f"must be a frequency > 0 in Hz, got {self.lowpass!r}", key=f"{key}.lowpass")
+        order = self.lowpass_order
+        if not isinstance(order, int) or isinstance(order, bool) or not 1 <= order <= 8:
+            raise InputError(f"must be an integer 1..8, got {order!r}", key=f"{key}.lowpass_order")
+        if self.record is not None and not isinstance(self.record, GroundMotionSpec):
+            raise InputError("must be a GroundMotionSpec", key=f"{key}.file")
+
+    @property
+    def is_identity(self) -> bool:
+        """The row's record unchanged."""
+        return self.record is None and not self.delay and self.lowpass is None
+
+
+def _finite(x) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
 
 
 @dataclass
@@ -137,9 +183,49 @@ class Model:
 
             system = assemble(self.buildings, self.gaps, self.contact)  # gap neighbours, levels, sizes, laws
             self._check_stability()
+            self._check_motions()
         except InputError as err:
             raise err.located(file=self.source) from None
         return system
+
+    def building_motions(self) -> list:
+        """The ground motion under each building, left to right: a :class:`BuildingMotion` (delay from the
+        position when ``[ground_motion] apparent_velocity`` is set), or None for the row's record unchanged."""
+        gm = self.ground_motion
+        out = []
+        for b in self.buildings:
+            m = b.ground_motion
+            if gm is not None and gm.apparent_velocity is not None:
+                from dataclasses import replace
+
+                delay = float(b.position) / float(gm.apparent_velocity)
+                m = BuildingMotion(delay=delay) if m is None else replace(m, delay=delay)
+            out.append(None if m is None or m.is_identity else m)
+        return out
+
+    def _check_motions(self) -> None:
+        """A delayed or filtered building needs a record to delay; apparent_velocity needs every position."""
+        gm = self.ground_motion
+        v = None if gm is None else gm.apparent_velocity
+        if v is not None and not (_finite(v) and v > 0):
+            raise InputError(f"must be a velocity > 0 in m/s, got {v!r}", key="ground_motion.apparent_velocity")
+        for b in self.buildings:
+            key = f"building.{b.name}"
+            m = b.ground_motion
+            if v is not None:
+                if b.position is None:
+                    raise InputError("is required when ground_motion.apparent_velocity is set (metres along the "
+                                     "row)", key=f"{key}.position")
+                if m is not None and m.delay:
+                    raise InputError("state either this delay or a position with ground_motion.apparent_velocity, "
+                                     "not both", key=f"{key}.ground_motion.delay")
+            nyquist = 0.5 / self.analysis.dt
+            if m is not None and m.lowpass is not None and not m.lowpass < nyquist:
+                raise InputError(f"must lie below the Nyquist frequency {nyquist:g} Hz of analysis.dt = "
+                                 f"{self.analysis.dt:g} s, got {m.lowpass:g}", key=f"{key}.ground_motion.lowpass")
+            if m is not None and m.record is None and gm is None and not m.is_identity:
+                raise InputError("delays or filters the row's record, but the model has no [ground_motion]; give "
+                                 "the building a file of its own", key=f"{key}.ground_motion")
 
     def _check_stability(self) -> None:
         """Refuse a Newmark step beyond its stability limit for the stiffest mode of the row.

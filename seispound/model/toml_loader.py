@@ -14,7 +14,7 @@ from ..contact import get_law
 from ..errors import InputError, number_array
 from ..structure import Building, Gap, NoDamping, RayleighDamping
 from .analysis import Analysis, Newmark
-from .spec import GroundMotionSpec, Model
+from .spec import BuildingMotion, GroundMotionSpec, Model
 
 __all__ = ["load_model", "parse_model", "read_toml"]
 
@@ -23,7 +23,8 @@ _ANALYSIS = {"dt", "duration", "newmark", "contact_substeps", "rtol", "max_iter"
 _NEWMARK = {"beta", "gamma"}
 _GROUND = {"file", "format", "dt", "trace", "units", "scale", "calibration", "baseline"}
 _BUILDING = {"name", "floors", "floor_masses", "storey_stiffness", "storey_heights", "damping",
-             "initial_velocity"}
+             "initial_velocity", "position", "ground_motion"}
+_VARIANT = {"delay", "lowpass", "lowpass_order"}
 _DAMPING = {"kind", "ratio", "modes"}
 _GAP = {"between", "size", "law", "stiffness", "restitution", "tension"}
 
@@ -95,43 +96,10 @@ def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
     gm = None
     if "ground_motion" in data:
         g = _table(data, "ground_motion")
-        _check_keys(g, _GROUND, "ground_motion")
-        if "file" not in g or not isinstance(g["file"], str) or not g["file"]:
-            raise InputError("is required (a record file relative to the model file)", key="ground_motion.file")
-        fpath = (Path(base) / g["file"]).resolve()
-        if not fpath.is_file():
-            raise InputError(f"record file not found: {fpath}", key="ground_motion.file")
-        trace = g.get("trace", 0)
-        if not isinstance(trace, (int, str)) or isinstance(trace, bool):
-            raise InputError(f"must be an index or a channel/id string, got {trace!r}", key="ground_motion.trace")
-        units = g.get("units", "auto")
-        if not isinstance(units, str):
-            raise InputError(f"must be a string, got {units!r}", key="ground_motion.units")
-        from ..motion.units import _canonical_units
-
-        try:
-            _canonical_units(units, None)  # fail at load time, before any work
-        except InputError as err:
-            raise InputError(err.message, key="ground_motion.units") from None
-        scale = g.get("scale", 1.0)
-        if not _number(scale) or not scale > 0:
-            raise InputError(f"must be a number > 0, got {scale!r}", key="ground_motion.scale")
-        cal = g.get("calibration")
-        if cal is not None and (not _number(cal) or not cal > 0):
-            raise InputError(f"must be a number > 0 (m/s^2 per count), got {cal!r}", key="ground_motion.calibration")
-        baseline = g.get("baseline", None)
-        if baseline is not None and (not isinstance(baseline, int) or isinstance(baseline, bool)
-                                     or not 0 <= baseline <= 3):
-            raise InputError(f"must be a polynomial order 0..3, got {baseline!r}", key="ground_motion.baseline")
-        fmt = _record_format(g.get("format"))
-        rec_dt = g.get("dt")
-        if rec_dt is not None and (not _number(rec_dt) or not rec_dt > 0):
-            raise InputError(f"must be a time step > 0 in s, got {rec_dt!r}", key="ground_motion.dt")
-        if rec_dt is not None and fmt != "text":
-            raise InputError('is stated only for text records (format = "text"); other formats carry their own '
-                             "time step", key="ground_motion.dt")
-        gm = GroundMotionSpec(file=fpath, trace=trace, units=units, scale=float(scale), calibration=cal,
-                              baseline=baseline, format=fmt, dt=rec_dt)
+        _check_keys(g, _GROUND | {"apparent_velocity"}, "ground_motion")
+        gm = _record_spec(g, "ground_motion", base)
+        if "apparent_velocity" in g:
+            gm.apparent_velocity = g["apparent_velocity"]
 
     # -- contact law ---------------------------------------------------------------
     law = None
@@ -168,8 +136,9 @@ def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
                 raise InputError(f"has {len(val)} entries but floors = {floors}", key=f"{key}.{fld}")
             fields[fld] = val
         damping = _damping(b.get("damping", {"kind": "rayleigh"}), f"{key}.damping")
-        buildings.append(Building(name=name, damping=damping,
-                                  initial_velocity=b.get("initial_velocity", 0.0), **fields))
+        motion = _building_motion(b["ground_motion"], f"{key}.ground_motion", base) if "ground_motion" in b else None
+        buildings.append(Building(name=name, damping=damping, initial_velocity=b.get("initial_velocity", 0.0),
+                                  position=b.get("position"), ground_motion=motion, **fields))
     # Building validates itself in __post_init__ with keys building.<name>.<field>
 
     # -- gaps ----------------------------------------------------------------------------
@@ -201,6 +170,62 @@ def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
 
 
 # -- helpers ---------------------------------------------------------------------------
+def _record_spec(g: dict, key: str, base) -> GroundMotionSpec:
+    """A record's settings (``[ground_motion]`` or a building's own ``ground_motion``) as a GroundMotionSpec."""
+    if "file" not in g or not isinstance(g["file"], str) or not g["file"]:
+        raise InputError("is required (a record file relative to the model file)", key=f"{key}.file")
+    fpath = (Path(base) / g["file"]).resolve()
+    if not fpath.is_file():
+        raise InputError(f"record file not found: {fpath}", key=f"{key}.file")
+    trace = g.get("trace", 0)
+    if not isinstance(trace, (int, str)) or isinstance(trace, bool):
+        raise InputError(f"must be an index or a channel/id string, got {trace!r}", key=f"{key}.trace")
+    units = g.get("units", "auto")
+    if not isinstance(units, str):
+        raise InputError(f"must be a string, got {units!r}", key=f"{key}.units")
+    from ..motion.units import _canonical_units
+
+    try:
+        _canonical_units(units, None)  # fail at load time, before any work
+    except InputError as err:
+        raise InputError(err.message, key=f"{key}.units") from None
+    scale = g.get("scale", 1.0)
+    if not _number(scale) or not scale > 0:
+        raise InputError(f"must be a number > 0, got {scale!r}", key=f"{key}.scale")
+    cal = g.get("calibration")
+    if cal is not None and (not _number(cal) or not cal > 0):
+        raise InputError(f"must be a number > 0 (m/s^2 per count), got {cal!r}", key=f"{key}.calibration")
+    baseline = g.get("baseline", None)
+    if baseline is not None and (not isinstance(baseline, int) or isinstance(baseline, bool)
+                                 or not 0 <= baseline <= 3):
+        raise InputError(f"must be a polynomial order 0..3, got {baseline!r}", key=f"{key}.baseline")
+    fmt = _record_format(g.get("format"), f"{key}.format")
+    rec_dt = g.get("dt")
+    if rec_dt is not None and (not _number(rec_dt) or not rec_dt > 0):
+        raise InputError(f"must be a time step > 0 in s, got {rec_dt!r}", key=f"{key}.dt")
+    if rec_dt is not None and fmt != "text":
+        raise InputError('is stated only for text records (format = "text"); other formats carry their own '
+                         "time step", key=f"{key}.dt")
+    return GroundMotionSpec(file=fpath, trace=trace, units=units, scale=float(scale), calibration=cal,
+                            baseline=baseline, format=fmt, dt=rec_dt)
+
+
+
+def _building_motion(g, key: str, base) -> BuildingMotion:
+    """``[[building]] ground_motion = { delay, lowpass, lowpass_order }``, optionally with a record of its own."""
+    if not isinstance(g, dict):
+        raise InputError("must be a table { delay, lowpass, lowpass_order } or a record { file, units, ... }",
+                         key=key)
+    _check_keys(g, _GROUND | _VARIANT, key)
+    record = _record_spec(g, key, base) if "file" in g else None
+    if record is None and set(g) & (_GROUND - {"file"}):
+        raise InputError(f"{', '.join(sorted(set(g) & _GROUND))} describe a record of the building's own, which "
+                         "needs a file", key=f"{key}.file")
+    motion = BuildingMotion(delay=g.get("delay", 0.0), lowpass=g.get("lowpass"),
+                            lowpass_order=g.get("lowpass_order", 2), record=record)
+    motion.validate(key)
+    return motion
+
 def record_formats() -> list[str]:
     """Names ``[ground_motion] format`` accepts: obspy's waveform formats (with PEER_AT2) and "text"."""
     from obspy.core.util.base import ENTRY_POINTS
@@ -208,13 +233,13 @@ def record_formats() -> list[str]:
     return sorted(ENTRY_POINTS["waveform"]) + ["text"]
 
 
-def _record_format(fmt):
+def _record_format(fmt, key="ground_motion.format"):
     if fmt is None:
         return None
     names = record_formats()
     hits = [n for n in names if isinstance(fmt, str) and n.lower() == fmt.strip().lower()]
     if not hits:
-        raise InputError(f"unknown record format {fmt!r}; one of: {', '.join(names)}", key="ground_motion.format")
+        raise InputError(f"unknown record format {fmt!r}; one of: {', '.join(names)}", key=key)
     return hits[0]
 
 

@@ -12,8 +12,8 @@ Coordinates
     gap_left, gap_right (building names), gap_left_floor, gap_right_floor,
     gap_height [m], gap_size [m], gap_law (name); energy_component names.
 Data variables (units in ``attrs["units"]``)
-    displacement(time, building, floor) [m], relative to the ground, +x to the right
-    velocity(time, building, floor) [m/s], relative to the ground
+    displacement(time, building, floor) [m], relative to the ground under that building, +x to the right
+    velocity(time, building, floor) [m/s], relative to the ground under that building
     acceleration(time, building, floor) [m/s^2], absolute (ground + relative)
     drift(time, building, floor) [m], u_floor - u_floor_below (ground for floor 1)
     pounding_force(time, gap) [N], compression positive, at the analysis instants
@@ -35,12 +35,15 @@ Data variables (units in ``attrs["units"]``)
     impact_separation_velocity(impact) [m/s], impact_velocity_ratio(impact) [-] (separation /
     approach: an MDoF impact's apparent restitution, not the law's e),
     impact_peak_force(impact) [N], impact_duration(impact) [s], impact_damping(impact)
-    ground_acceleration(time) [m/s^2]
+    ground_acceleration(time) [m/s^2], the row's record
+    base_acceleration(time, building) [m/s^2], the ground motion under each building
+    base_displacement(time, building) [m], its exact integral from rest (absolute position = displacement + this)
     energy(time, energy_component) [J]: input, kinetic, strain, damping, contact
 Attributes
     schema, schema_version, title, seispound_version, created_utc, model_file,
     model_text, record (JSON provenance; "none" for free vibration), contact_law,
-    dt, duration, newmark_beta, newmark_gamma, integrator_stats (JSON).
+    dt, duration, newmark_beta, newmark_gamma, integrator_stats (JSON), building_ground_motion (JSON:
+    each building with a motion of its own: record, delay, filter).
 """
 
 from __future__ import annotations
@@ -67,7 +70,7 @@ def _per_floor(values, system, nb, nfmax):
     return out
 
 
-def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, version) -> xr.Dataset:
+def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, version, motions=None) -> xr.Dataset:
     """Assemble the result Dataset of one run (see the module docstring for the schema)."""
     b_names = [b.name for b in model.buildings]
     nb = len(b_names)
@@ -113,6 +116,7 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
     for i, b in enumerate(model.buildings):
         periods[i, : b.n_floors] = b.periods
 
+    base_acc, base_disp = _base_motion(motions, ground_acc, model.analysis.dt, nb)
     links = system.links
     ng = len(links)
     imp = raw.impacts
@@ -160,7 +164,13 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
             impact_damping=var(("impact",), imp["zeta"], "law-dependent",
                                "damping used: zeta [N s/m^(n+1)] for Hd, LHC, Hertzdamp; "
                                "c [N s/m] for LVe, MLVe; xi-bar [-] for NIVe"),
-            ground_acceleration=var(("time",), ground_acc, "m/s^2", "ground acceleration"),
+            ground_acceleration=var(("time",), ground_acc, "m/s^2", "ground acceleration of the row's record"),
+            base_acceleration=var(("time", "building"), base_acc, "m/s^2",
+                                  "ground acceleration under each building (the row's record unless the building "
+                                  "has a motion of its own)"),
+            base_displacement=var(("time", "building"), base_disp, "m",
+                                  "ground displacement under each building (exact integral of the piecewise-linear "
+                                  "acceleration from rest); absolute floor position = displacement + this"),
             energy=var(("time", "energy_component"), raw.energy, "J",
                        "energy balance (relative frame): input = kinetic + strain + damping + contact"),
         ),
@@ -194,6 +204,8 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
         model_file=str(model.source or ""),
         model_text=model.text or "",
         record=json.dumps(record_provenance) if record_provenance else "none",
+        building_ground_motion=json.dumps({} if motions is None else {
+            name: own for name, own in zip(b_names, motions.per_building) if own is not None}),
         contact_law=json.dumps(sorted({l.law.name for l in links})),
         dt=float(model.analysis.dt),
         duration=float(model.analysis.nsteps * model.analysis.dt),
@@ -203,3 +215,13 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
         sign_convention="x positive from left building to right; penetration = u_left - u_right - gap",
     )
     return ds
+
+
+def _base_motion(motions, ground_acc, dt, nb):
+    """Ground acceleration and displacement under each building, two (nt, nb) arrays."""
+    from ..motion.spatial import ground_motion_integrals
+
+    rows = np.atleast_2d(ground_acc) if motions is None else motions.rows
+    row_of = np.zeros(nb, np.int64) if motions is None else motions.row_of
+    _, ug = ground_motion_integrals(rows, dt)
+    return np.ascontiguousarray(rows[row_of].T), np.ascontiguousarray(ug[row_of].T)

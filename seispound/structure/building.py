@@ -53,6 +53,12 @@ class Building:
     damping : RayleighDamping or NoDamping
     initial_velocity : float or sequence of float, shape (N,), optional
         Floor velocities relative to the ground at t = 0 [m/s].
+    position : float, optional
+        Position along the row [m] (with ``[ground_motion] apparent_velocity``:
+        the wave reaches the building position / velocity after the record).
+    ground_motion : BuildingMotion, optional
+        The ground motion under this building when it differs from the row's
+        (:class:`seispound.model.BuildingMotion`); None: the row's record.
     """
 
     name: str
@@ -61,6 +67,8 @@ class Building:
     storey_heights: list
     damping: object = field(default_factory=RayleighDamping)
     initial_velocity: object = 0.0
+    position: float | None = None
+    ground_motion: object = None
 
     def __post_init__(self):
         self.validate()
@@ -91,6 +99,11 @@ class Building:
         if not np.all(np.isfinite(v)):
             raise InputError("must be finite", key=f"{key}.initial_velocity")
         self.initial_velocity = v
+        p = self.position
+        if p is not None and not (isinstance(p, (int, float)) and not isinstance(p, bool) and math.isfinite(p)):
+            raise InputError(f"must be a finite number of metres, got {p!r}", key=f"{key}.position")
+        if self.ground_motion is not None:
+            self.ground_motion.validate(f"{key}.ground_motion")
         d = self.damping
         if isinstance(d, RayleighDamping):
             if not (isinstance(d.ratio, (int, float)) and 0.0 <= d.ratio < 1.0):

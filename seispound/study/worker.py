@@ -45,14 +45,13 @@ def twin_task(study, index: int) -> dict:
     """The no-pounding twin of run ``index``'s group: its peaks per DOF (results/peaks.py), or its error."""
     from ..integrate import integrate
     from ..results.peaks import dof_peaks
-    from ..simulation import prepare_ground_motion
+    from ..simulation import run_inputs
 
     try:
         model = study.model_for(index)
-        system = model.assembled()
-        ag, _ = prepare_ground_motion(model)
+        system, motions = run_inputs(model)
         an = model.analysis
-        raw = integrate(system.without_contact(), ag, an.dt, an.nsteps, an.newmark)
+        raw = integrate(system.without_contact(), motions.rows, an.dt, an.nsteps, an.newmark)
         return {"peaks": dof_peaks(raw, *_storeys(model, system)), "error": ""}
     except Exception as exc:  # a bad record fails every run of its group, not the study
         return {"peaks": None, "error": _error_text(exc)}
@@ -62,7 +61,7 @@ def run_one(study, index: int, twin: dict) -> dict:
     """Run ``index`` of the study: its summaries (and kept histories) as arrays, or its error."""
     from ..integrate import integrate
     from ..results.peaks import amplifications, dof_peaks, drift_history
-    from ..simulation import prepare_ground_motion
+    from ..simulation import run_inputs
 
     out = {"index": int(index), "status": STATUS_FAILED, "error": ""}
     if twin.get("error"):
@@ -70,10 +69,9 @@ def run_one(study, index: int, twin: dict) -> dict:
         return out
     try:
         model = study.model_for(index)
-        system = model.assembled()
-        ag, _ = prepare_ground_motion(model)
+        system, motions = run_inputs(model)
         an = model.analysis
-        raw = integrate(system, ag, an.dt, an.nsteps, an.newmark)
+        raw = integrate(system, motions.rows, an.dt, an.nsteps, an.newmark)
     except Exception as exc:
         out["error"] = _error_text(exc)
         return out

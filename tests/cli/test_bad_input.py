@@ -75,6 +75,11 @@ def sub(old, new):
     return edit
 
 
+def _b_motion(table):
+    """Give building B the ground motion ``table``."""
+    return sub('name = "B"\nfloors = 8\n', f'name = "B"\nfloors = 8\nground_motion = {table}\n')
+
+
 def nan_record(folder: Path):
     """Replace sample 102 (0-based; line 25, third value) of the copied record with NaN."""
     lines = (folder / "rec.AT2").read_text().splitlines(keepends=True)
@@ -125,13 +130,27 @@ CASES = {
                           None, "model", "building.B.damping.modes"),
     "dt_zero": (sub("dt = 0.005", "dt = 0.0"), None, "model", "analysis.dt"),
     "dt_negative": (sub("dt = 0.005", "dt = -0.005"), None, "model", "analysis.dt"),
+    "motion_lowpass_above_nyquist": (_b_motion("{ delay = 0.01, lowpass = 150.0 }"), None, "model",
+                                     "building.B.ground_motion.lowpass"),
+    "motion_delay_not_a_number": (_b_motion('{ delay = "0.1" }'), None, "model", "building.B.ground_motion.delay"),
+    "motion_unknown_key": (_b_motion("{ dely = 0.1 }"), None, "model", "building.B.ground_motion.dely"),
+    "motion_own_record_missing": (_b_motion('{ file = "no_such.AT2", units = "g" }'), None, "model",
+                                  "building.B.ground_motion.file"),
+    "motion_order_zero": (_b_motion("{ lowpass = 5.0, lowpass_order = 0 }"), None, "model",
+                          "building.B.ground_motion.lowpass_order"),
+    "apparent_velocity_without_position": (sub('units = "g"\n', 'units = "g"\napparent_velocity = 300.0\n'),
+                                           None, "model", "building.A.position"),
+    "apparent_velocity_negative": (lambda t: _b_motion("{ lowpass = 5.0 }")(t).replace(
+        'units = "g"\n', 'units = "g"\napparent_velocity = -300.0\n'), None, "model",
+        "ground_motion.apparent_velocity"),
 }
 
 # the cases run through the CLI as subprocesses (start-up costs 1.5-2.5 s each); the
 # variants left out here are checked through the Python API only
 CLI_CASES = ["malformed_toml", "missing_model_file", "unknown_law", "zero_mass", "zero_storey_stiffness",
              "lengths_disagree", "negative_gap", "nan_in_record", "units_unparseable", "missing_record_file",
-             "unknown_key_typo", "gap_between_non_neighbours", "damping_modes_out_of_range", "dt_zero"]
+             "unknown_key_typo", "gap_between_non_neighbours", "damping_modes_out_of_range", "dt_zero",
+             "motion_lowpass_above_nyquist", "apparent_velocity_without_position"]
 
 # cases whose problem lies in the record's content: found when the record is read (simulate)
 RECORD_CONTENT = {"nan_in_record", "units_contradict_record"}

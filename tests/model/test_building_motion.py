@@ -1,0 +1,42 @@
+"""``[[building]] ground_motion`` and ``[ground_motion] apparent_velocity`` in model files."""
+
+import json
+
+import numpy as np
+
+import seispound as sp
+from seispound.motion.spatial import variant
+from tests.cli.test_bad_input import BASE, write_model
+
+
+def _with(text, b_line="", gm_line="", a_line=""):
+    text = text.replace('name = "B"\nfloors = 8\n', f'name = "B"\nfloors = 8\n{b_line}')
+    text = text.replace('units = "g"\n', f'units = "g"\n{gm_line}')
+    return text.replace('name = "A"\n', f'name = "A"\n{a_line}')
+
+
+def test_apparent_velocity_gives_each_building_position_over_velocity(tmp_path):
+    path = write_model(tmp_path, _with(BASE, "position = 30.0\n", "apparent_velocity = 600.0\n", "position = 0.0\n"))
+    model = sp.load_model(path)
+    motions = model.building_motions()
+    assert motions[0] is None  # at the origin: the record as it is
+    assert motions[1].delay == 30.0 / 600.0
+    ds = sp.simulate(model, twin=False)
+    own = json.loads(ds.attrs["building_ground_motion"])
+    assert list(own) == ["B"] and own["B"]["delay_s"] == 0.05
+    ag = ds.ground_acceleration.values
+    expected, _ = variant(ag, 0.005, 0.05)
+    assert np.array_equal(ds.base_acceleration.sel(building="B").values, expected)
+    assert np.array_equal(ds.base_acceleration.sel(building="A").values, ag)
+
+
+def test_a_record_of_its_own_delayed_and_filtered(tmp_path):
+    text = _with(BASE, 'ground_motion = { file = "rec.AT2", units = "g", scale = 0.5, delay = 0.02, lowpass = 10.0 }\n')
+    model = sp.load_model(write_model(tmp_path, text))
+    m = model.building_motions()[1]
+    assert (m.delay, m.lowpass, m.lowpass_order, m.record.scale) == (0.02, 10.0, 2, 0.5)
+    ds = sp.simulate(model, twin=False)
+    expected, steps = variant(0.5 * ds.ground_acceleration.values, 0.005, 0.02, 10.0, 2)
+    assert np.allclose(ds.base_acceleration.sel(building="B").values, expected, rtol=1e-12, atol=1e-15)
+    own = json.loads(ds.attrs["building_ground_motion"])["B"]
+    assert own["steps"] == steps and isinstance(own["record"], dict)

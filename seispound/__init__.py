@@ -21,7 +21,8 @@ from .errors import InputError
 # Public names load their modules on first use, so that the command line
 # (`seispound laws`, error paths) does not pay for numba and xarray up front.
 _LAZY = {
-    "Model": ".model", "Analysis": ".model", "BuildingMotion": ".model", "GroundMotionSpec": ".model", "load_model": ".model",
+    "Model": ".model", "Analysis": ".model", "BuildingMotion": ".model", "GroundMotionSpec": ".model",
+    "load_model": ".model",
     "simulate": ".simulation", "write_result": ".results", "open_result": ".results",
     "normalised_error": ".results", "response_spectrum": ".spectra", "floor_spectrum": ".spectra",
     "load_study": ".study", "run_study": ".study", "open_study": ".study.query",

@@ -4,6 +4,7 @@ from .laws import (
     ContactLaw,
     Hertz,
     Hertzdamp,
+    HuntCrossley,
     LinearHuntCrossley,
     LinearViscoelastic,
     ModifiedLinearViscoelastic,
@@ -14,16 +15,27 @@ from .laws import (
     nive_damping_ratio,
 )
 from .registry import get_law, law_names, make_law, register
+from .restitution import (
+    ExponentialRestitution,
+    LinearRestitution,
+    PowerRestitution,
+    Restitution,
+    TableRestitution,
+    restitution_from,
+)
 
 LVe = LinearViscoelastic
 MLVe = ModifiedLinearViscoelastic
 NIVe = NonlinearViscoelastic
 Hd = UpdatedHertzdamp
 LHC = LinearHuntCrossley
+HC = HuntCrossley
 
 __all__ = [
     "ContactLaw", "Hertz", "Hertzdamp", "LinearHuntCrossley", "LinearViscoelastic",
     "ModifiedLinearViscoelastic", "NonlinearViscoelastic", "UpdatedHertzdamp",
-    "LVe", "MLVe", "NIVe", "Hd", "LHC", "get_law", "law_names", "make_law", "register",
+    "HuntCrossley", "LVe", "MLVe", "NIVe", "Hd", "LHC", "HC", "get_law", "law_names", "make_law", "register",
     "lve_damping_ratio", "mlve_damping_ratio", "nive_damping_ratio",
+    "Restitution", "LinearRestitution", "ExponentialRestitution", "PowerRestitution", "TableRestitution",
+    "restitution_from",
 ]

@@ -16,8 +16,9 @@ import math
 
 from numba import njit
 
-from .codes import (HD, HERTZ, HERTZDAMP, LHC, LVE, MLVE, N_PAR, NIVE, NONE, P_E, P_EXPONENT,  # noqa: F401
-                    P_K, P_MEFF, P_TENSION, P_XI)
+from .codes import (E_CONSTANT, E_EXPONENTIAL, E_LINEAR, E_POWER, HC, HD, HERTZ, HERTZDAMP, LHC,  # noqa: F401
+                    LVE, MAX_TABLE, MLVE, N_PAR, NIVE, NONE, P_E, P_EA, P_EB, P_EC, P_ED, P_EFORM, P_EXPONENT, P_K,
+                    P_MEFF, P_NTAB, P_TAB, P_TENSION, P_XI)
 
 
 @njit(cache=True)
@@ -73,6 +74,101 @@ def hunt_crossley_s(e):
             break
         t = tn
     return -math.expm1(-t) / e
+
+
+@njit(cache=True)
+def restitution_from_s(s):
+    """The e whose Hunt-Crossley root is s (the inverse of :func:`hunt_crossley_s`), 0 < e <= 1.
+
+    s = zeta v0 / k falls monotonically from infinity (e -> 0) to 0 (e = 1);
+    bisection on e to 1e-15.  This is the exact restitution of any law
+    F = delta^n (k + zeta rate) with a fixed zeta (seed Eq. 8 read the other way).
+    """
+    if s <= 0.0:
+        return 1.0
+    lo = 0.0
+    hi = 1.0
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if hunt_crossley_s(mid) > s:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo <= 1e-15:
+            break
+    return 0.5 * (lo + hi)
+
+
+@njit(cache=True)
+def restitution_at(par, v0):
+    """The coefficient of restitution of a gap at approach velocity v0 [m/s] (``contact.restitution`` forms).
+
+    Columns P_EFORM (form), P_EA..P_ED (its parameters) and, for a table,
+    P_NTAB points at P_TAB (velocities) and P_TAB + MAX_TABLE (e).
+    """
+    form = int(par[P_EFORM])
+    if form == E_CONSTANT:
+        return par[P_E]
+    v = max(v0, 0.0)
+    a = par[P_EA]
+    b = par[P_EB]
+    c = par[P_EC]
+    d = par[P_ED]
+    if form == E_LINEAR:  # e0, slope, min, max
+        return min(max(a - b * v, c), d)
+    if form == E_EXPONENTIAL:  # e0, e_inf, v_c
+        return b + (a - b) * math.exp(-v / c)
+    if form == E_POWER:  # e_ref, v_ref, exponent, max
+        return d if v <= 0.0 else min(d, a * (v / b) ** (-c))
+    # table: linear between the points, constant outside
+    n = int(par[P_NTAB])
+    if v <= par[P_TAB]:
+        return par[P_TAB + MAX_TABLE]
+    for i in range(1, n):
+        v1 = par[P_TAB + i]
+        if v <= v1:
+            v0_ = par[P_TAB + i - 1]
+            e0 = par[P_TAB + MAX_TABLE + i - 1]
+            e1 = par[P_TAB + MAX_TABLE + i]
+            return e0 + (e1 - e0) * (v - v0_) / (v1 - v0_)
+    return par[P_TAB + MAX_TABLE + n - 1]
+
+
+@njit(cache=True)
+def onset_state(code, par, v0):
+    """The contact law's onset hook: its per-impact state from the approach velocity v0 [m/s].
+
+    Returns (zeta, e): the damping parameter of :func:`onset_damping` and the
+    coefficient of restitution it was set from.  With a constant e (P_EFORM =
+    E_CONSTANT) zeta is exactly :func:`onset_damping`'s; a velocity-dependent e
+    (``contact.restitution``) is evaluated at v0 and the law's damping set from
+    it with the same relations (seed Eqs. 3, 5, 6, 8; Muthukumar & DesRoches
+    2006 Eq. 13).  The Hunt-Crossley law HC has a fixed zeta = 3/2 c k, and
+    its e = e(s = 3/2 c v0) from seed Eq. 8 (:func:`restitution_from_s`).
+    """
+    k = par[P_K]
+    if code == HC:
+        return 1.5 * par[P_XI] * k, restitution_from_s(1.5 * par[P_XI] * max(v0, 0.0))
+    if code == HERTZ:
+        return 0.0, 1.0
+    if int(par[P_EFORM]) == E_CONSTANT:
+        return onset_damping(code, par, v0), par[P_E]
+    e = restitution_at(par, v0)
+    if code == HD or code == LHC:
+        return (k * hunt_crossley_s(e) / v0 if v0 > 0.0 else 0.0), e
+    if code == HERTZDAMP:
+        return (0.75 * k * (1.0 - e * e) / v0 if v0 > 0.0 else 0.0), e
+    if code == LVE:
+        le = math.log(e)
+        xi = -le / math.sqrt(math.pi * math.pi + le * le)  # seed Eq. 3
+    elif code == MLVE:
+        xi = (1.0 - e * e) / (math.pi * e)  # seed Eq. 5
+    elif code == NIVE:
+        # Jankowski's xi-bar (seed Eq. 6); NIVe's onset value is the ratio itself
+        return 9.0 * math.sqrt(5.0) / 2.0 * (1.0 - e * e) / (e * (e * (9.0 * math.pi - 16.0) + 16.0)), e
+    else:
+        return 0.0, e
+    return 2.0 * xi * math.sqrt(k * par[P_MEFF]), e
 
 
 @njit(cache=True)
@@ -154,6 +250,8 @@ def contact_force(code, par, delta, rate, zeta):
     * LHC, Eq. 9:  F = k delta + zeta delta rate
     * Hertz:       F = k delta^1.5
     * Hertzdamp:   F = k delta^1.5 + zeta delta^1.5 rate (Muthukumar & DesRoches 2006)
+    * HC:          F = k delta^n (1 + 3/2 c rate) = delta^n (k + zeta rate), zeta = 3/2 c k
+      (Hunt & Crossley 1975)
     """
     return law_force(code, par[P_K], par[P_EXPONENT], par[P_MEFF], par[P_TENSION], delta, rate, zeta)
 
@@ -198,7 +296,7 @@ def law_force(code, k, exponent, meff, tension, delta, rate, zeta):
         if code == HERTZ:
             F = k * dn
             dFd = k * dn1
-        elif code == HD or code == HERTZDAMP:
+        elif code == HD or code == HERTZDAMP or code == HC:
             F = dn * (k + zeta * rate)
             dFd = dn1 * (k + zeta * rate)
             dFv = zeta * dn

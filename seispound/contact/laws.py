@@ -19,6 +19,7 @@ import numpy as np
 
 from ..errors import InputError
 from . import codes as S
+from .restitution import Restitution, restitution_from
 
 __all__ = [
     "ContactLaw",
@@ -29,6 +30,7 @@ __all__ = [
     "LinearHuntCrossley",
     "Hertz",
     "Hertzdamp",
+    "HuntCrossley",
     "lve_damping_ratio",
     "mlve_damping_ratio",
     "nive_damping_ratio",
@@ -105,7 +107,8 @@ class ContactLaw:
         units = "N/m" if cls.exponent == 1.0 else f"N/m^{cls.exponent:g}"
         return [
             Param("stiffness", units, "contact stiffness k"),
-            Param("restitution", "-", "target coefficient of restitution e, 0 < e <= 1"),
+            Param("restitution", "-", "target coefficient of restitution e, 0 < e <= 1, or a function of the "
+                                      "approach velocity {form = linear|exponential|power|table, ...}"),
             Param("tension", "bool", f"may the force become tensile (default {cls.tension_default})"),
         ]
 
@@ -119,7 +122,11 @@ class ContactLaw:
         k, e = self.stiffness, self.restitution
         if not _is_real(k) or not k > 0 or not math.isfinite(k):
             raise InputError(f"stiffness must be a finite number > 0, got {k!r}", key=f"{key}.stiffness")
-        if not _is_real(e) or not (0.0 < e <= 1.0):
+        if isinstance(e, dict):  # a form given as a table (from Python or a study path)
+            self.restitution = e = restitution_from(e, f"{key}.restitution")
+        if isinstance(e, Restitution):
+            e.validate(f"{key}.restitution")
+        elif not _is_real(e) or not (0.0 < e <= 1.0):
             raise InputError(f"restitution must be in (0, 1], got {e!r}", key=f"{key}.restitution")
         if self.tension is not None and not isinstance(self.tension, bool):
             raise InputError(f"tension must be true or false, got {self.tension!r}", key=f"{key}.tension")
@@ -128,12 +135,27 @@ class ContactLaw:
         """Damping ratio derived from e (laws with a dashpot of fixed ratio)."""
         return 0.0
 
+    @property
+    def velocity_dependent(self) -> bool:
+        """Is e a function of the approach velocity (set at each impact's onset)?"""
+        return isinstance(self.restitution, Restitution)
+
+    def restitution_at(self, approach_velocity):
+        """The e this law is given for an impact at ``approach_velocity`` [m/s] (array_like)."""
+        if self.velocity_dependent:
+            return self.restitution(approach_velocity)
+        return np.full(np.shape(approach_velocity), float(self.restitution))
+
     def kernel_params(self, m1: float, m2: float) -> np.ndarray:
         """Parameter row for the kernel, shape (N_PAR,), for floors of mass m1, m2 [kg]."""
         row = np.zeros(S.N_PAR)
         row[S.P_K] = float(self.stiffness)
-        row[S.P_E] = float(self.restitution)
-        row[S.P_XI] = self.damping_ratio()
+        if self.velocity_dependent:  # e and the damping from it are set at each onset
+            row[S.P_E] = np.nan
+            self.restitution.kernel_columns(row)
+        else:
+            row[S.P_E] = float(self.restitution)
+            row[S.P_XI] = self.damping_ratio()
         row[S.P_MEFF] = m1 * m2 / (m1 + m2)
         row[S.P_TENSION] = 1.0 if self.allows_tension else 0.0
         row[S.P_EXPONENT] = self.exponent
@@ -144,7 +166,7 @@ class ContactLaw:
         """Damping parameter that the kernel fixes at the onset of an impact (see ``_scalar.onset_damping``)."""
         from . import _scalar  # compiled on first use: reading a model file compiles nothing
 
-        return _scalar.onset_damping(self.code, self.kernel_params(m1, m2), float(approach_velocity))
+        return _scalar.onset_state(self.code, self.kernel_params(m1, m2), float(approach_velocity))[0]
 
     def force(self, delta, rate, approach_velocity, m1=1.0, m2=1.0):
         """Contact force [N] for penetration ``delta`` [m] and rate [m/s].
@@ -166,7 +188,7 @@ class ContactLaw:
         par = self.kernel_params(m1, m2)
         from . import _scalar
 
-        zeta = _scalar.onset_damping(self.code, par, float(approach_velocity))
+        zeta = _scalar.onset_state(self.code, par, float(approach_velocity))[0]
         d, r = np.broadcast_arrays(np.asarray(delta, float), np.asarray(rate, float))
         out = np.zeros(d.shape)
         for idx in np.ndindex(d.shape):
@@ -201,7 +223,7 @@ class LinearViscoelastic(ContactLaw):
     tension_note = "tensile at the end of impact by default (exact e); tension=false clamps F >= 0"
 
     def damping_ratio(self):
-        return lve_damping_ratio(self.restitution)
+        return lve_damping_ratio(self.restitution) if not self.velocity_dependent else np.nan
 
 
 class ModifiedLinearViscoelastic(ContactLaw):
@@ -221,7 +243,7 @@ class ModifiedLinearViscoelastic(ContactLaw):
     tension_note = "never tensile"
 
     def damping_ratio(self):
-        return mlve_damping_ratio(self.restitution)
+        return mlve_damping_ratio(self.restitution) if not self.velocity_dependent else np.nan
 
 
 class NonlinearViscoelastic(ContactLaw):
@@ -240,7 +262,7 @@ class NonlinearViscoelastic(ContactLaw):
     tension_note = "never tensile"
 
     def damping_ratio(self):
-        return nive_damping_ratio(self.restitution)
+        return nive_damping_ratio(self.restitution) if not self.velocity_dependent else np.nan
 
 
 class UpdatedHertzdamp(ContactLaw):
@@ -313,3 +335,81 @@ class Hertzdamp(ContactLaw):
     reference = "Muthukumar & DesRoches (2006) EESD 35(7):811-828"
     formula = "F = k*delta^1.5 + zeta*delta^1.5*rate, zeta = 3k(1-e^2)/(4 v0)"
     tension_note = "never tensile"
+
+
+class HuntCrossley(ContactLaw):
+    """Hunt-Crossley law with a fixed material damping constant c (Hunt & Crossley 1975).
+
+    F = k delta^n (1 + 3/2 c rate) = delta^n (k + zeta rate), zeta = 3/2 c k,
+    with c [s/m] a property of the material, not of the impact (Hunt &
+    Crossley 1975, J. Appl. Mech. 42(2):440-445, Eq. 8 and their alpha = 3/2 c;
+    Marhefka & Orin 1999, IEEE SMC-A 29(6):566-572).  Its restitution therefore
+    falls with the approach velocity by itself: for two free bodies, exactly
+    e(v0) with s = zeta v0 / k = 3/2 c v0 in seed Eq. 8 (any mass, any n;
+    ``_scalar.restitution_from_s``), about 1 - c v0 for small c v0.  Never
+    tensile: k + zeta rate > 0 during restitution on that branch.
+    """
+
+    name = "HC"
+    code = S.HC
+    exponent = 1.5
+    reference = "Hunt & Crossley (1975) J. Appl. Mech. 42(2):440-445; Marhefka & Orin (1999)"
+    formula = "F = k*delta^n*(1 + 1.5*c*rate), c fixed: e falls with the approach velocity"
+    tension_note = "never tensile"
+
+    def __init__(self, stiffness: float, damping_constant: float = 0.0, exponent: float = 1.5,
+                 tension: bool | None = None):
+        self.stiffness = stiffness
+        self.damping_constant = damping_constant
+        self.exponent = exponent
+        self.tension = tension
+
+    @classmethod
+    def param_names(cls):
+        return ("stiffness", "damping_constant", "exponent", "tension")
+
+    @classmethod
+    def describe_params(cls):
+        return [
+            Param("stiffness", "N/m^n", "contact stiffness k"),
+            Param("damping_constant", "s/m", "material damping constant c (Hunt-Crossley alpha = 3/2 c); "
+                                            "e ~ 1 - c v0"),
+            Param("exponent", "-", "exponent n of delta (default 1.5, Hertz)"),
+            Param("tension", "bool", "may the force become tensile (default false)"),
+        ]
+
+    def validate(self, key: str = "contact") -> None:
+        k, c, n = self.stiffness, self.damping_constant, self.exponent
+        if not _is_real(k) or not k > 0 or not math.isfinite(k):
+            raise InputError(f"stiffness must be a finite number > 0, got {k!r}", key=f"{key}.stiffness")
+        if not _is_real(c) or not c >= 0 or not math.isfinite(c):
+            raise InputError(f"damping_constant must be a number >= 0 in s/m, got {c!r}",
+                             key=f"{key}.damping_constant")
+        if not _is_real(n) or not 1.0 <= n <= 3.0:
+            raise InputError(f"exponent must lie in [1, 3], got {n!r}", key=f"{key}.exponent")
+        if self.tension is not None and not isinstance(self.tension, bool):
+            raise InputError(f"tension must be true or false, got {self.tension!r}", key=f"{key}.tension")
+
+    @property
+    def velocity_dependent(self) -> bool:
+        return True
+
+    def restitution_at(self, approach_velocity):
+        """Exact two-body e(v0) of seed Eq. 8 with s = 3/2 c v0 (array_like v0 [m/s])."""
+        from . import _scalar
+
+        v = np.asarray(approach_velocity, dtype=float)
+        out = np.empty(v.shape)
+        for idx in np.ndindex(v.shape):
+            out[idx] = _scalar.restitution_from_s(1.5 * float(self.damping_constant) * max(float(v[idx]), 0.0))
+        return out
+
+    def kernel_params(self, m1: float, m2: float) -> np.ndarray:
+        row = np.zeros(S.N_PAR)
+        row[S.P_K] = float(self.stiffness)
+        row[S.P_E] = np.nan  # set at each onset from the approach velocity
+        row[S.P_XI] = float(self.damping_constant)
+        row[S.P_MEFF] = m1 * m2 / (m1 + m2)
+        row[S.P_TENSION] = 1.0 if self.allows_tension else 0.0
+        row[S.P_EXPONENT] = float(self.exponent)
+        return row

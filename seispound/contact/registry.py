@@ -7,6 +7,7 @@ from .laws import (
     ContactLaw,
     Hertz,
     Hertzdamp,
+    HuntCrossley,
     LinearHuntCrossley,
     LinearViscoelastic,
     ModifiedLinearViscoelastic,
@@ -24,7 +25,7 @@ def register(cls: type[ContactLaw]) -> type[ContactLaw]:
 
 
 for _cls in (LinearViscoelastic, ModifiedLinearViscoelastic, NonlinearViscoelastic,
-             UpdatedHertzdamp, LinearHuntCrossley, Hertz, Hertzdamp):
+             UpdatedHertzdamp, LinearHuntCrossley, Hertz, Hertzdamp, HuntCrossley):
     register(_cls)
 
 

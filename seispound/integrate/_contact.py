@@ -19,7 +19,7 @@ from ..contact._scalar import (
     contact_duration,
     contact_force,
     law_force,
-    onset_damping,
+    onset_state,
 )
 from ._linear import _dense_solve
 
@@ -138,11 +138,12 @@ def _group_contacts(m, act_list, gap_lo, gap_hi, comp_off):
 
 @njit(cache=True)
 def _begin_impact(g, t, dg, rg, code, par, n_sub, active, zeta, hsub, age, cur_imp,
-                  n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_fmax, imp_dur, imp_vout):
-    """Open impact number ``n_imp`` at gap g: fix its damping from the approach
-    velocity rg, size its substeps, start its catalogue row; return its onset force."""
+                  n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_e, imp_fmax, imp_dur, imp_vout):
+    """Open impact number ``n_imp`` at gap g: the law's onset hook fixes its damping (and the e it
+    comes from) from the approach velocity rg; size its substeps, start its catalogue row; return its
+    onset force."""
     active[g] = True
-    zeta[g] = onset_damping(code, par, rg)
+    zeta[g], imp_e[n_imp] = onset_state(code, par, rg)
     hsub[g] = contact_duration(code, par, rg) / n_sub
     age[g] = 0
     cur_imp[g] = n_imp

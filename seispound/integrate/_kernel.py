@@ -146,7 +146,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                      use_modal, md_start, md_blocks_t, md_block_off, md_phi_t, md_phi_tm, md_w2, md_c,
                      md_gam, nblk, multirate, wait_share, blk_dof, blk_el,
                      out_u, out_v, out_a, out_f, out_e, umax, fmax,
-                     imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta,
+                     imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e,
                      stats):
     """Integrate the row of buildings; fill the output arrays; return (status, n_impacts, t_reached).
 
@@ -186,6 +186,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     out_v, out_a, out_f, out_e, umax = borrow(out_v), borrow(out_a), borrow(out_f), borrow(out_e), borrow(umax)
     fmax, imp_gap, imp_t0, imp_v0 = borrow(fmax), borrow(imp_gap), borrow(imp_t0), borrow(imp_v0)
     imp_vout, imp_fmax, imp_dur, imp_zeta = borrow(imp_vout), borrow(imp_fmax), borrow(imp_dur), borrow(imp_zeta)
+    imp_e = borrow(imp_e)
     stats = borrow(stats)
     n = mass.size
     ng = gap_size.size
@@ -379,7 +380,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
             if n_imp >= cap:
                 return IMPACT_CAPACITY, n_imp, t
             _begin_impact(g, t, dg, rg, gap_law[g], gap_par[g], n_sub, active, zeta, hsub, age, cur_imp,
-                          n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_fmax, imp_dur, imp_vout)
+                          n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_e, imp_fmax, imp_dur, imp_vout)
             n_imp += 1
     _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd)
     _ground_all(ag, t, dt, g_t)
@@ -936,8 +937,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     if n_imp >= cap:
                         return IMPACT_CAPACITY, n_imp, t
                     F[g] = _begin_impact(g, t, dg, rg, gap_law[g], gap_par[g], n_sub, active, zeta, hsub,
-                                         age, cur_imp, n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_fmax,
-                                         imp_dur, imp_vout)
+                                         age, cur_imp, n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_e,
+                                         imp_fmax, imp_dur, imp_vout)
                     if F[g] > fmax[g]:
                         fmax[g] = F[g]
                     n_imp += 1

@@ -202,6 +202,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
             umax=np.empty(n), fmax=np.empty(ng),
             imp_gap=np.empty(cap, np.int64), imp_t0=np.empty(cap), imp_v0=np.empty(cap),
             imp_vout=np.empty(cap), imp_fmax=np.empty(cap), imp_dur=np.empty(cap), imp_zeta=np.empty(cap),
+            imp_e=np.empty(cap),
             stats=np.zeros(K.N_STATS, np.int64),
         )
         status, n_imp, t_reached = K.integrate_kernel(

@@ -10,7 +10,7 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover
     import tomli as tomllib
 
-from ..contact import get_law
+from ..contact import get_law, restitution_from
 from ..errors import InputError, number_array
 from ..structure import Building, Gap, NoDamping, RayleighDamping
 from .analysis import Analysis, Newmark
@@ -26,7 +26,8 @@ _BUILDING = {"name", "floors", "floor_masses", "storey_stiffness", "storey_heigh
              "initial_velocity", "position", "ground_motion"}
 _VARIANT = {"delay", "lowpass", "lowpass_order"}
 _DAMPING = {"kind", "ratio", "modes"}
-_GAP = {"between", "size", "law", "stiffness", "restitution", "tension"}
+_LAW_KEYS = {"law", "stiffness", "restitution", "tension", "damping_constant", "exponent"}
+_GAP = {"between", "size"} | _LAW_KEYS
 
 
 def load_model(path) -> Model:
@@ -151,10 +152,11 @@ def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
         for req in ("between", "size"):
             if req not in gp:
                 raise InputError("is required", key=f"{key}.{req}")
-        own = {k: gp[k] for k in ("law", "stiffness", "restitution", "tension") if k in gp}
+        own = {k: gp[k] for k in _LAW_KEYS if k in gp}
         glaw = None
         if own:
-            merged = {} if law is None else {"law": law.name, **law.get_params()}
+            other = law is not None and "law" in own and str(own["law"]).lower() != law.name.lower()
+            merged = {} if law is None or other else {"law": law.name, **law.get_params()}
             merged = {k: v for k, v in merged.items() if v is not None}
             merged.update(own)
             glaw = _make_law(merged, key)
@@ -266,19 +268,22 @@ def _check_keys(table: dict, allowed: set, where: str) -> None:
 
 
 def _make_law(c: dict, key: str):
-    allowed = {"law", "stiffness", "restitution", "tension"}
-    _check_keys(c, allowed | ({"between", "size"} if key.startswith("gap") else set()), key)
     if "law" not in c:
+        _check_keys(c, _LAW_KEYS | ({"between", "size"} if key.startswith("gap") else set()), key)
         raise InputError("is required (one of the names listed by `seispound laws`)", key=f"{key}.law")
     try:
         cls = get_law(c["law"])
     except InputError as err:
         raise InputError(err.message, key=f"{key}.law") from None
+    names = cls.param_names()
+    _check_keys(c, {"law", *names} | ({"between", "size"} if key.startswith("gap") else set()), key)
     if "stiffness" not in c:
         raise InputError("is required", key=f"{key}.stiffness")
-    params = {k: c[k] for k in ("stiffness", "restitution", "tension") if k in c}
-    if "restitution" not in params and cls.name != "Hertz":
+    params = {k: c[k] for k in names if k in c}
+    if "restitution" in names and "restitution" not in params and cls.name != "Hertz":
         raise InputError("is required", key=f"{key}.restitution")
+    if "restitution" in params:  # a number, or e(v0) as {form = ...} (contact/restitution.py)
+        params["restitution"] = restitution_from(params["restitution"], f"{key}.restitution")
     law = cls(**params)
     law.validate(key=key)
     return law

@@ -34,7 +34,8 @@ Data variables (units in ``attrs["units"]``)
     impact_gap(impact), impact_onset(impact) [s], impact_approach_velocity(impact) [m/s],
     impact_separation_velocity(impact) [m/s], impact_velocity_ratio(impact) [-] (separation /
     approach: an MDoF impact's apparent restitution, not the law's e),
-    impact_peak_force(impact) [N], impact_duration(impact) [s], impact_damping(impact)
+    impact_peak_force(impact) [N], impact_duration(impact) [s], impact_damping(impact),
+    impact_law_restitution(impact) [-] (the e the law's damping was set from)
     ground_acceleration(time) [m/s^2], the row's record
     base_acceleration(time, building) [m/s^2], the ground motion under each building
     base_displacement(time, building) [m], its exact integral from rest (absolute position = displacement + this)
@@ -161,6 +162,10 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
                                       "outside [0, 1]; not the law's e)"),
             impact_peak_force=var(("impact",), imp["fmax"], "N", "peak force of the impact"),
             impact_duration=var(("impact",), imp["dur"], "s", "contact duration (NaN if still in contact)"),
+            impact_law_restitution=var(("impact",), imp["e"], "1",
+                                       "the law's coefficient of restitution e for this impact (a velocity-"
+                                       "dependent restitution evaluated at the approach velocity); its damping "
+                                       "was set from it"),
             impact_damping=var(("impact",), imp["zeta"], "law-dependent",
                                "damping used: zeta [N s/m^(n+1)] for Hd, LHC, Hertzdamp; "
                                "c [N s/m] for LVe, MLVe; xi-bar [-] for NIVe"),

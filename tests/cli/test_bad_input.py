@@ -138,6 +138,15 @@ CASES = {
                                   "building.B.ground_motion.file"),
     "motion_order_zero": (_b_motion("{ lowpass = 5.0, lowpass_order = 0 }"), None, "model",
                           "building.B.ground_motion.lowpass_order"),
+    "restitution_form_unknown": (sub("restitution = 0.65", 'restitution = { form = "cubic", e0 = 0.9 }'), None,
+                                 "model", "contact.restitution.form"),
+    "restitution_table_not_increasing": (
+        sub("restitution = 0.65", 'restitution = { form = "table", velocity = [0.5, 0.1], e = [0.8, 0.9] }'), None,
+        "model", "contact.restitution.velocity"),
+    "hunt_crossley_negative_damping": (sub('law = "Hd"\nstiffness = 2.75e9\nrestitution = 0.65',
+                                           'law = "HC"\nstiffness = 2.75e9\ndamping_constant = -0.2'), None,
+                                       "model", "contact.damping_constant"),
+    "hunt_crossley_takes_no_restitution": (sub('law = "Hd"', 'law = "HC"'), None, "model", "contact.restitution"),
     "apparent_velocity_without_position": (sub('units = "g"\n', 'units = "g"\napparent_velocity = 300.0\n'),
                                            None, "model", "building.A.position"),
     "apparent_velocity_negative": (lambda t: _b_motion("{ lowpass = 5.0 }")(t).replace(
@@ -150,7 +159,7 @@ CASES = {
 CLI_CASES = ["malformed_toml", "missing_model_file", "unknown_law", "zero_mass", "zero_storey_stiffness",
              "lengths_disagree", "negative_gap", "nan_in_record", "units_unparseable", "missing_record_file",
              "unknown_key_typo", "gap_between_non_neighbours", "damping_modes_out_of_range", "dt_zero",
-             "motion_lowpass_above_nyquist", "apparent_velocity_without_position"]
+             "motion_lowpass_above_nyquist", "apparent_velocity_without_position", "restitution_form_unknown"]
 
 # cases whose problem lies in the record's content: found when the record is read (simulate)
 RECORD_CONTENT = {"nan_in_record", "units_contradict_record"}

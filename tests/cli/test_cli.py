@@ -117,7 +117,7 @@ def test_laws_lists_every_law_with_its_stiffness_units():
         if m:
             units[current] = m.group(1)
     assert units == {"LVe": "N/m", "MLVe": "N/m", "NIVe": "N/m^1.5", "Hd": "N/m^1.5",
-                     "LHC": "N/m", "Hertz": "N/m^1.5", "Hertzdamp": "N/m^1.5"}
+                     "LHC": "N/m", "Hertz": "N/m^1.5", "Hertzdamp": "N/m^1.5", "HC": "N/m^n"}
     assert "seed Eq" in proc.stdout
 
 

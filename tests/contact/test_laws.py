@@ -120,8 +120,8 @@ def make(name, **kw):
     return cls(stiffness=k, restitution=e, **kw), k, e
 
 
-def test_registry_lists_the_seven_laws():
-    assert law_names() == ["LVe", "MLVe", "NIVe", "Hd", "LHC", "Hertz", "Hertzdamp"]
+def test_registry_lists_the_eight_laws():
+    assert law_names() == ["LVe", "MLVe", "NIVe", "Hd", "LHC", "Hertz", "Hertzdamp", "HC"]
 
 
 @pytest.mark.parametrize("name", list(LAWS))

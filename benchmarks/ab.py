@@ -44,7 +44,7 @@ def export_reference(ref: str, folder: Path) -> None:
     src.rename(folder / "seispound_ref")
 
 
-def _runner(pkg, model_path):
+def _runner(pkg, model_path, scheme=None):
     model = pkg.load_model(model_path)
     system = model.assembled() if hasattr(model, "assembled") else None
     if system is None:
@@ -54,8 +54,9 @@ def _runner(pkg, model_path):
     integrate = importlib.import_module(pkg.__name__ + ".integrate").integrate
     an = model.analysis
     twin = system.without_contact()
-    return (lambda: integrate(system, ag, an.dt, an.nsteps, an.newmark),
-            lambda: integrate(twin, ag, an.dt, an.nsteps, an.newmark))
+    kw = {} if scheme is None else {"scheme": scheme}
+    return (lambda: integrate(system, ag, an.dt, an.nsteps, an.newmark, **kw),
+            lambda: integrate(twin, ag, an.dt, an.nsteps, an.newmark, **kw))
 
 
 def main(argv=None) -> int:
@@ -63,13 +64,15 @@ def main(argv=None) -> int:
     ap.add_argument("ref", help="git commit or branch to compare against")
     ap.add_argument("--model", default=str(REPO / "models" / "row_of_three.toml"))
     ap.add_argument("--repeat", type=int, default=7)
+    ap.add_argument("--scheme", choices=("exact", "newmark"),
+                    help="the working tree's integration scheme (default: its default)")
     args = ap.parse_args(argv)
     with tempfile.TemporaryDirectory() as tmp:
         export_reference(args.ref, Path(tmp))
         sys.path.insert(0, tmp)
         ref = importlib.import_module("seispound_ref")
         new = importlib.import_module("seispound")
-        runs = {"ref": _runner(ref, args.model), "new": _runner(new, args.model)}
+        runs = {"ref": _runner(ref, args.model), "new": _runner(new, args.model, args.scheme)}
         out = {name: (pound(), twin()) for name, (pound, twin) in runs.items()}  # compile, and compare
         diff = float(np.max(np.abs(out["new"][0].displacement - out["ref"][0].displacement)))
         times = {(name, part): [] for name in runs for part in (0, 1)}

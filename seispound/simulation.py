@@ -208,11 +208,11 @@ def simulate(model, *, twin: bool = True, force: bool = False) -> xr.Dataset:
             findings += check_before_run(model, own["record"], motions.rows[motions.row_of[i]])
     issue(findings, force=force, file=model.source)
     an = model.analysis
-    raw = integrate(system, motions.rows, an.dt, an.nsteps, an.newmark)
+    raw = integrate(system, motions.rows, an.dt, an.nsteps, an.newmark, scheme=an.scheme)
     _check_finite(raw, an.dt)
     raw0 = None
     if twin:  # with histories: its peak accelerations, drifts and storey shears (results/peaks.py)
-        raw0 = integrate(system.without_contact(), motions.rows, an.dt, an.nsteps, an.newmark)
+        raw0 = integrate(system.without_contact(), motions.rows, an.dt, an.nsteps, an.newmark, scheme=an.scheme)
         _check_finite(raw0, an.dt, what="the no-pounding twin")
     ds = build_dataset(model, system, raw, raw0, ag, prov, __version__, motions=motions)
     after = check_after_run(ds)

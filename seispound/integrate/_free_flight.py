@@ -15,6 +15,7 @@ from numba import njit
 from ..contact._scalar import NONE
 from ._contact import _gap_deformation
 from ._events import LAND_TOL, _event_in_step
+from ._exact import F_QQ, F_QV, F_VQ, F_VV, G0_Q, G0_V, G1_Q, G1_V, exact_coefficients, exact_step
 from ._ground import _gap_ground_at
 from ._outputs import E_CONTACT, E_DAMPING, E_INPUT, E_KINETIC, E_STRAIN
 
@@ -100,15 +101,42 @@ def _block_energy(nb, Q, QV, DQ, P, f_start, md_w2, md_c, Eb):
 
 
 @njit(cache=True)
+def _march_exact(k0, k1, P, co, md_c, md_w2, mq, mqv, mqa, Q, QV, QA, DQ):
+    """Steps k0..k1-1 of every mode by the exact recurrence (Nigam & Jennings 1969; ``_exact.py``).
+
+    The acceleration follows from each mode's equation, q'' = P - c q' - w2 q.
+    """
+    fqq, fqv, fvq, fvv = co[F_QQ], co[F_QV], co[F_VQ], co[F_VV]  # one contiguous row each: vectorised over j
+    g0q, g0v, g1q, g1v = co[G0_Q], co[G0_V], co[G1_Q], co[G1_V]
+    for k in range(k0, k1):
+        for j in range(mq.size):
+            p0 = P[k, j]
+            p1 = P[k + 1, j]
+            q0 = mq[j]
+            v0 = mqv[j]
+            q1 = fqq[j] * q0 + fqv[j] * v0 + g0q[j] * p0 + g1q[j] * p1
+            v1 = fvq[j] * q0 + fvv[j] * v0 + g0v[j] * p0 + g1v[j] * p1
+            DQ[k, j] = q1 - q0
+            mq[j] = q1
+            mqv[j] = v1
+            mqa[j] = p1 - md_c[j] * v1 - md_w2[j] * q1
+            Q[k, j] = q1
+            QV[k, j] = v1
+            QA[k, j] = mqa[j]
+
+
+@njit(cache=True)
 def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
                  md_start, md_blocks_t, md_block_off, md_phi_t, md_w2, md_c, md_gam, md_khinv, s_in, s_out,
                  mq, mqv, mqa, Q, QV, QA, DQ, P, U, V, f_start, Eb,
-                 dof_motion, gap_i, gap_j, gap_size, gap_law, moving, gap_ground, d0, r0,
+                 dof_motion, gap_i, gap_j, gap_size, gap_law, moving, gap_ground, exact, ex_co, d0, r0,
                  u, v, a, umax, out_u, out_v, out_a, out_f, out_e, e_in, w_int, e_cont, es0):
     """March up to ``nblk`` analysis steps from step0 with every gap open, in modal coordinates.
 
     The modal state (mq, mqv, mqa) at step0 advances by the Newmark recurrence
-    of each mode (``modal.py``: exact Newmark, no solve), displacements and
+    of each mode (``modal.py``: exact Newmark, no solve) or, with ``exact``, by
+    the exact step of each mode for the piecewise-linear load (``_exact.py``,
+    coefficients ``ex_co`` (8, n) for the step dt), displacements and
     velocities follow as Phi q (one matrix product per block), and every gap is
     screened step by step with the same test as the physical path.  The steps
     before the first one in which a gap may close are accepted (outputs, peaks,
@@ -152,7 +180,9 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
     k0 = 0
     while k0 < nb and n_acc == nb:
         k1 = min(k0 + chunk, nb)
-        for k in range(k0, k1):
+        if exact:
+            _march_exact(k0, k1, P, ex_co, md_c, md_w2, mq, mqv, mqa, Q, QV, QA, DQ)
+        for k in range(k0, k1 if not exact else k0):
             for j in range(n):  # every mode at once: vectorised over j
                 av = -c1 * mqv[j] - c2 * mqa[j]
                 vv = c3 * mqv[j] + c4 * mqa[j]
@@ -233,3 +263,49 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
     else:
         _block_matvec(md_start, md_phi_t, QV[kl], v, True)
     return n_acc, event, th_ev, g_ev, e_in, w_int
+
+
+@njit(cache=True)
+def _exact_trial(h, g_t, g_1, beta, gamma, md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam, co, h_co,
+                 u, v, q, qv, Du, Vv, Av):
+    """A step of size h [s] of the whole row with every gap open, exact for the piecewise-linear ground motion.
+
+    The physical path's step around events (the rest of a step after an impact,
+    the part of a step before one), in modal coordinates like a free-flight
+    block (``_exact.py``; coefficients for h in ``co`` (8, n), recomputed when
+    h differs from h_co[0]).  The result is returned in the Newmark form the
+    rest of the step expects: u1 = u + Du, v1 = Vv + cc Du, a1 = Av + cm Du
+    (cc = gamma / (beta h), cm = 1 / (beta h^2)), so screening, events and
+    acceptance run unchanged.  g_t, g_1 (nm,): ground accelerations at the
+    step's ends; q, qv (n,) scratch.  Returns sum (K u)_i u_i at the start
+    (twice the strain energy), as the Newmark predictor does.
+    """
+    n = u.size
+    if h != h_co[0]:
+        exact_coefficients(md_w2, md_c, h, co)
+        h_co[0] = h
+    _block_matvec(md_start, md_phi_tm, u, q, False)
+    _block_matvec(md_start, md_phi_tm, v, qv, False)
+    qa = np.empty(n)
+    es = 0.0
+    for j in range(n):
+        p0 = 0.0
+        p1 = 0.0
+        for r in range(g_t.size):
+            p0 -= md_gam[r, j] * g_t[r]
+            p1 -= md_gam[r, j] * g_1[r]
+        es += md_w2[j] * q[j] * q[j]
+        q1, v1 = exact_step(co, j, q[j], qv[j], p0, p1)
+        q[j] = q1
+        qv[j] = v1
+        qa[j] = p1 - md_c[j] * v1 - md_w2[j] * q1
+    _block_matvec(md_start, md_phi_t, q, Du, True)
+    _block_matvec(md_start, md_phi_t, qv, Vv, True)
+    _block_matvec(md_start, md_phi_t, qa, Av, True)
+    cc = gamma / (beta * h)
+    cm = 1.0 / (beta * h * h)
+    for i in range(n):
+        Du[i] -= u[i]
+        Vv[i] -= cc * Du[i]
+        Av[i] -= cm * Du[i]
+    return es

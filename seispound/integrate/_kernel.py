@@ -99,7 +99,7 @@ from ._contact import (
     _newton,
 )
 from ._events import LAND_TOL, _event_in_step
-from ._free_flight import _block_matvec, _free_flight
+from ._free_flight import _block_matvec, _exact_trial, _free_flight
 from ._ground import GU0, GU1, GV0, GV1, _gap_ground_accept, _gap_ground_all, _gap_ground_at, _ground_all
 from ._linear import (
     SEMISEPARABLE_GAPS,
@@ -144,7 +144,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                      u_init, v_init, gap_i, gap_j, gap_lo, gap_hi, gap_size, gap_law, gap_par,
                      ag, moving, gap_ground, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store,
                      use_modal, md_start, md_blocks_t, md_block_off, md_phi_t, md_phi_tm, md_w2, md_c,
-                     md_gam, nblk, multirate, wait_share, blk_dof, blk_el,
+                     md_gam, nblk, exact, ex_co, multirate, wait_share, blk_dof, blk_el,
                      out_u, out_v, out_a, out_f, out_e, umax, fmax,
                      imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e,
                      stats):
@@ -157,6 +157,10 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     out_f : (nt, ng); out_e : (nt, 5) (with store False: 1 row, the initial state);
     umax : (n,); fmax : (ng,);
     imp_* : (capacity,); stats : (N_STATS,) int64.
+    exact : (with use_modal) every step with every gap open is exact for the
+    piecewise-linear ground motion (``_exact.py``): free-flight blocks with the
+    coefficients ex_co (8, n) for dt, the physical path's steps around events
+    with coefficients computed for their size; False: Newmark throughout.
     use_modal : march the steps with every gap open in blocks of up to nblk
     steps in modal coordinates (``_free_flight``); md_* from ``modal.py``
     (md_start : (nc + 1,) block starts; md_blocks_t, md_block_off: each
@@ -309,7 +313,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     n_imp = 0
     # free-flight blocks: modal state and block histories (time-contiguous rows)
     nbw = nblk if use_modal else 1
-    nq = n if use_modal else 0
+    nq = n if use_modal or exact else 0
     mq = np.empty(nq)
     mqv = np.empty(nq)
     mqa = np.empty(nq)
@@ -325,6 +329,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     s_out = np.empty(nbw * nq)
     Eb = np.empty((4, nbw))
     md_khinv = np.empty(nq)
+    ex_h = np.empty((8, nq if exact else 0))  # exact step coefficients for the last odd step h_ex[0]
+    h_ex = np.full(1, -1.0)
     for j in range(nq):
         md_khinv[j] = 1.0 / (md_w2[j] + gamma / (beta * dt) * md_c[j] + 1.0 / (beta * dt * dt))
     modal_current = False  # does (q, qv, qa) hold the current state?
@@ -446,7 +452,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 step, nsteps, min(blk, nblk), dt, beta, gamma, ag, store,
                 md_start, md_blocks_t, md_block_off, md_phi_t, md_w2, md_c, md_gam, md_khinv, s_in, s_out,
                 mq, mqv, mqa, Qb, QVb, QAb, DQb, Pb, Ub, Vb, f_start, Eb,
-                dof_motion, gap_i, gap_j, gap_size, gap_law, moving, gap_ground, d0, r0,
+                dof_motion, gap_i, gap_j, gap_size, gap_law, moving, gap_ground, exact, ex_co, d0, r0,
                 u, v, a, umax, out_u, out_v, out_a, out_f, out_e, e_in, w_int, e_cont, es0)
             stats[S_STEPS] += n_acc
             stats[S_FREE_FLIGHT] += n_acc
@@ -615,7 +621,12 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 # the step with every contact force frozen at zero, on the stepping buildings' runs
                 # (exact when no gap is closed)
                 es = 0.0
-                if n_run == 1 and r_hi[0] - r_lo[0] == n:
+                if exact and m_act == 0:
+                    # every gap open (around an event): the exact modal step, as in free flight
+                    es = _exact_trial(h, g_t, g_1, beta, gamma, md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam,
+                                      ex_h, h_ex, u, v, mq, mqv, Du, Vv, Av)
+                    modal_current = False
+                elif n_run == 1 and r_hi[0] - r_lo[0] == n:
                     # the whole row steps (single-rate, or nobody waits): the same loops over 0..n-1,
                     # which LLVM optimises better than the range version (measured 11-13 % per attempt)
                     for i in range(n):

@@ -111,9 +111,26 @@ def _cached_basis(system):
                  lambda: modal_basis(system))
 
 
+_EXACT: dict = {}
+
+
+def _cached_exact(basis, dt):
+    """Exact step coefficients (8, n) of every mode of ``basis`` for the step dt (``_exact.py``)."""
+    return _memo(_EXACT, (basis.omega2, basis.c, np.array([dt])), lambda: _exact_coefficients(basis, dt))
+
+
+def _exact_coefficients(basis, dt):
+    from ._exact import exact_coefficients
+
+    out = np.empty((8, basis.omega2.size))
+    exact_coefficients(basis.omega2, basis.c, float(dt), out)
+    return out
+
+
 def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newmark | None = None,
               impact_capacity: int | None = None, store_history: bool = True,
-              free_flight: bool = True, multirate: bool = True, wait_share: float = WAIT_SHARE) -> RawResult:
+              free_flight: bool = True, multirate: bool = True, wait_share: float = WAIT_SHARE,
+              scheme: str = "exact") -> RawResult:
     """Integrate a row of buildings under one (or one per DOF group) ground motion.
 
     Parameters
@@ -145,6 +162,14 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         gaps may close (default).  False: every building takes every substep.
         The two differ by the time-discretisation error of the waiting
         buildings' steps, the same as in free flight.
+    scheme : {"exact", "newmark"}
+        "exact" (default): every step in which all gaps are open is exact for
+        the piecewise-linear ground acceleration, mode by mode (Nigam &
+        Jennings 1969; ``_exact.py``), wherever the free-flight blocks apply
+        (linear, classically damped buildings of at most MAX_MODAL_BLOCK
+        storeys); contacts and everything else take Newmark steps.
+        "newmark": Newmark-beta throughout (as OpenSees does), to compare with
+        other programs.
     wait_share : float
         Buildings wait only when together they hold at least this share of
         the row's DOFs (default ``WAIT_SHARE`` = 0.5: below it, the
@@ -157,6 +182,8 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     """
     nm = newmark or Newmark()
     nm.validate()
+    if scheme not in ("exact", "newmark"):
+        raise InputError(f'scheme must be "exact" or "newmark", got {scheme!r}', key="analysis.scheme")
     if not 0.0 <= wait_share <= 1.0:
         raise ValueError(f"wait_share must lie in [0, 1], got {wait_share!r}")
     ag = np.atleast_2d(np.asarray(ground_acceleration, dtype=float))
@@ -183,10 +210,13 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     ground = gap_ground_motion(system.dof_motion[gap_i], system.dof_motion[gap_j], ag, dt)
     moving = ground.shape[2] > 1
     nt = nsteps + 1 if store_history else 1
-    basis = _cached_basis(system) if free_flight else None
+    basis = _cached_basis(system) if free_flight or scheme == "exact" else None
+    exact = scheme == "exact" and basis is not None
+    ex_co = _cached_exact(basis, dt) if exact else np.zeros((8, 0))
     if basis is not None:
-        md = (True, basis.start, basis.blocks_t, basis.block_offset, basis.phi_t, basis.phi_tm, basis.omega2, basis.c,
-              basis.participation(system.mass, system.dof_motion, ag.shape[0]), FREE_FLIGHT_BLOCK)
+        md = (bool(free_flight), basis.start, basis.blocks_t, basis.block_offset, basis.phi_t, basis.phi_tm,
+              basis.omega2, basis.c, basis.participation(system.mass, system.dof_motion, ag.shape[0]),
+              FREE_FLIGHT_BLOCK)
     else:
         e2 = np.zeros((0, 0))
         e1 = np.zeros(1, np.int64)
@@ -210,7 +240,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
             system.el_a1, int(system.bandwidth), system.u0, system.v0, gap_i, gap_j, gap_lo, gap_hi,
             gap_size, gap_law, np.ascontiguousarray(gap_par), np.ascontiguousarray(ag), moving, ground, float(dt),
             int(nsteps), float(nm.beta), float(nm.gamma), int(nm.contact_substeps), float(nm.rtol),
-            int(nm.max_iter), bool(store_history), *md,
+            int(nm.max_iter), bool(store_history), *md, exact, ex_co,
             bool(multirate), float(wait_share), blk_dof, blk_el, **out)
         if status == K.IMPACT_CAPACITY:
             cap *= 4

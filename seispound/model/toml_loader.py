@@ -19,7 +19,7 @@ from .spec import BuildingMotion, GroundMotionSpec, Model
 __all__ = ["load_model", "parse_model", "read_toml"]
 
 _TOP = {"title", "description", "analysis", "ground_motion", "contact", "building", "gap"}
-_ANALYSIS = {"dt", "duration", "newmark", "contact_substeps", "rtol", "max_iter"}
+_ANALYSIS = {"dt", "duration", "newmark", "contact_substeps", "rtol", "max_iter", "scheme"}
 _NEWMARK = {"beta", "gamma"}
 _GROUND = {"file", "format", "dt", "trace", "units", "scale", "calibration", "baseline"}
 _BUILDING = {"name", "floors", "floor_masses", "storey_stiffness", "storey_heights", "damping",
@@ -90,7 +90,7 @@ def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
     for req in ("dt", "duration"):
         if req not in an:
             raise InputError("is required", key=f"analysis.{req}")
-    analysis = Analysis(dt=an["dt"], duration=an["duration"], newmark=newmark)
+    analysis = Analysis(dt=an["dt"], duration=an["duration"], newmark=newmark, scheme=an.get("scheme", "exact"))
     analysis.validate()
 
     # -- ground motion (optional: free vibration / impact test) ----------------

@@ -216,6 +216,7 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
         duration=float(model.analysis.nsteps * model.analysis.dt),
         newmark_beta=float(nm.beta),
         newmark_gamma=float(nm.gamma),
+        scheme=model.analysis.scheme,
         integrator_stats=json.dumps(raw.stats),
         sign_convention="x positive from left building to right; penetration = u_left - u_right - gap",
     )

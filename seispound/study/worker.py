@@ -51,7 +51,7 @@ def twin_task(study, index: int) -> dict:
         model = study.model_for(index)
         system, motions = run_inputs(model)
         an = model.analysis
-        raw = integrate(system.without_contact(), motions.rows, an.dt, an.nsteps, an.newmark)
+        raw = integrate(system.without_contact(), motions.rows, an.dt, an.nsteps, an.newmark, scheme=an.scheme)
         return {"peaks": dof_peaks(raw, *_storeys(model, system)), "error": ""}
     except Exception as exc:  # a bad record fails every run of its group, not the study
         return {"peaks": None, "error": _error_text(exc)}
@@ -71,7 +71,7 @@ def run_one(study, index: int, twin: dict) -> dict:
         model = study.model_for(index)
         system, motions = run_inputs(model)
         an = model.analysis
-        raw = integrate(system, motions.rows, an.dt, an.nsteps, an.newmark)
+        raw = integrate(system, motions.rows, an.dt, an.nsteps, an.newmark, scheme=an.scheme)
     except Exception as exc:
         out["error"] = _error_text(exc)
         return out

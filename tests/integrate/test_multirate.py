@@ -44,7 +44,9 @@ def join_case():
     nsteps = int(round(t_end / dt))
     ag = np.zeros(nsteps + 1)
     # C holds 2 of the 7 DOFs: below the default share that waits (WAIT_SHARE), so let it wait
-    runs = {mr: integrate(system, ag, dt, nsteps, multirate=mr, wait_share=0.0) for mr in (True, False)}
+    # (Newmark throughout: the waiting buildings' steps are Newmark steps in either scheme)
+    runs = {mr: integrate(system, ag, dt, nsteps, multirate=mr, wait_share=0.0, scheme="newmark")
+            for mr in (True, False)}
     mats = [shear_matrices(x.floor_masses, x.storey_stiffness, *x.rayleigh_coefficients()) for x in bs]
     m = np.concatenate([x[0] for x in mats])
     K = sl.block_diag(*[x[1] for x in mats])
@@ -115,8 +117,9 @@ def pairs_case():
     ag, nsteps = el_centro(10.0, 0.005)
     # every pair may wait whatever its share of the row (the default WAIT_SHARE lets the
     # waiting buildings wait only when they hold half the DOFs: a cost rule, not physics)
-    rows = {mr: integrate(row, ag, 0.005, nsteps, multirate=mr, wait_share=0.0) for mr in (True, False)}
-    alone = [integrate(assemble(*_pair(p), law), ag, 0.005, nsteps) for p in range(k)]
+    rows = {mr: integrate(row, ag, 0.005, nsteps, multirate=mr, wait_share=0.0, scheme="newmark")
+            for mr in (True, False)}
+    alone = [integrate(assemble(*_pair(p), law), ag, 0.005, nsteps, scheme="newmark") for p in range(k)]
     return row, rows, alone
 
 

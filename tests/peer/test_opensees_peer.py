@@ -92,4 +92,4 @@ def _seispound_with(c, ag, dt, n):
     from seispound.structure import assemble
 
     m = c.model(dt)
-    return integrate(assemble(m.buildings, m.gaps, m.contact), ag, dt, n).displacement
+    return integrate(assemble(m.buildings, m.gaps, m.contact), ag, dt, n, scheme="newmark").displacement

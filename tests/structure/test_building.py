@@ -9,6 +9,7 @@ import pytest
 
 from seispound import InputError
 from seispound.contact import Hd, LVe
+from seispound.contact.codes import N_PAR
 from seispound.structure import Building, Gap, NoDamping, RayleighDamping, assemble
 from seispound.structure.gap import expand_gap
 
@@ -240,6 +241,6 @@ def test_assembled_matrices_are_the_building_blocks(row):
 
 def test_single_building_has_no_gaps():
     s = assemble([uniform("Solo", 3)], [])
-    assert s.n_gap == 0 and s.gap_par.shape == (0, 6)
+    assert s.n_gap == 0 and s.gap_par.shape == (0, N_PAR)
     assert s.bandwidth == 1
     np.testing.assert_allclose(s.stiffness_matrix(), uniform("Solo", 3).stiffness_matrix())

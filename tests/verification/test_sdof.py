@@ -44,7 +44,7 @@ def sdof(damping=None):
 
 def run(dt, t_end, newmark=None, damping=None):
     nsteps = int(round(t_end / dt))
-    return integrate(sdof(damping), np.zeros(nsteps + 1), dt, nsteps, newmark or Newmark())
+    return integrate(sdof(damping), np.zeros(nsteps + 1), dt, nsteps, newmark or Newmark(), scheme="newmark")
 
 
 def zero_crossings(t, u):

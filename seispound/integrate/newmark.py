@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -187,6 +187,10 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     if not 0.0 <= wait_share <= 1.0:
         raise ValueError(f"wait_share must lie in [0, 1], got {wait_share!r}")
     ag = np.atleast_2d(np.asarray(ground_acceleration, dtype=float))
+    system = system.kernel_arrays()  # extra dashpots folded into a0 m and a1 k
+    if ag.shape[1] == nsteps + 1 and system.dof_influence is not None:
+        ag, dof_motion = system.motion_rows(ag)
+        system = replace(system, dof_motion=dof_motion, dof_influence=None)
     if ag.shape[1] != nsteps + 1:
         raise ValueError(f"ground acceleration has {ag.shape[1]} samples, expected nsteps + 1 = {nsteps + 1}")
     if not np.all(np.isfinite(ag)):

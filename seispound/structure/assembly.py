@@ -50,6 +50,18 @@ class SystemArrays:
     gap_par : (ng, N_PAR) float
         Law parameters (columns ``P_*``).
     links : list of GapLink
+    el_c : (ne,) float [N s/m], optional
+        A dashpot of each element in parallel with its spring, beyond the
+        Rayleigh term el_a1 el_k (an axial rod damper, a foundation dashpot).
+    dof_c : (n,) float [N s/m], optional
+        A dashpot from each DOF to its ground, beyond the Rayleigh term dof_a0 mass.
+    dof_influence : (n,) float, optional
+        Influence coefficient of each DOF on its ground-motion row: the effective
+        load is -mass x influence x a_g (1 for a translation along the motion,
+        0 for a rotation); default 1.
+
+    The kernel takes every dashpot as a0 m per DOF and a1 k per element; the
+    extra dashpots join them there (``kernel_arrays``).
     """
 
     mass: np.ndarray
@@ -70,6 +82,9 @@ class SystemArrays:
     gap_law: np.ndarray
     gap_par: np.ndarray
     links: list
+    el_c: np.ndarray | None = None
+    dof_c: np.ndarray | None = None
+    dof_influence: np.ndarray | None = None
 
     @property
     def n_dof(self) -> int:
@@ -90,8 +105,58 @@ class SystemArrays:
         return self._springs(np.zeros((self.n_dof, self.n_dof)), self.el_k)
 
     def damping_matrix(self) -> np.ndarray:
-        """Dense Rayleigh damping matrix [N s/m], shape (n, n)."""
-        return self._springs(np.diag(self.dof_a0 * self.mass), self.el_a1 * self.el_k)
+        """Dense damping matrix [N s/m], shape (n, n): Rayleigh plus any extra dashpots."""
+        a0, a1 = self.kernel_damping()
+        return self._springs(np.diag(a0 * self.mass), a1 * self.el_k)
+
+    def kernel_damping(self) -> tuple[np.ndarray, np.ndarray]:
+        """(dof_a0, el_a1) with the extra dashpots folded in: a0 + c/m per DOF, a1 + c/k per element.
+
+        An element dashpot needs a spring in parallel (k > 0), a DOF dashpot acts
+        to the DOF's ground; with no extra dashpots the Rayleigh arrays themselves.
+        """
+        a0, a1 = self.dof_a0, self.el_a1
+        if self.dof_c is not None and np.any(self.dof_c):
+            a0 = a0 + np.asarray(self.dof_c, float) / self.mass
+        if self.el_c is not None and np.any(self.el_c):
+            c = np.asarray(self.el_c, float)
+            if np.any((c != 0.0) & (self.el_k <= 0.0)):
+                raise ValueError("an element dashpot needs a spring in parallel (el_k > 0)")
+            a1 = a1 + np.divide(c, self.el_k, out=np.zeros_like(c), where=c != 0.0)
+        return a0, a1
+
+    def kernel_arrays(self) -> "SystemArrays":
+        """This row as the kernel takes it: extra dashpots folded into dof_a0 and el_a1 (same object if none)."""
+        if (self.el_c is None or not np.any(self.el_c)) and (self.dof_c is None or not np.any(self.dof_c)):
+            return self
+        from dataclasses import replace
+
+        a0, a1 = self.kernel_damping()
+        return replace(self, dof_a0=a0, el_a1=a1, el_c=None, dof_c=None)
+
+    def motion_rows(self, ag: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Ground-motion rows (m, nt) and each DOF's row, with the influence coefficients applied.
+
+        A DOF of influence c on motion r reads the row c a_g,r (added once per
+        distinct pair (r, c)); with every influence 1, ``ag`` and ``dof_motion``
+        themselves.  Rotations (c = 0) read a row of zeros: no inertial load,
+        and their absolute acceleration is their relative one.
+        """
+        infl = self.dof_influence
+        if infl is None or np.all(np.asarray(infl) == 1.0):
+            return ag, self.dof_motion
+        rows = [ag[r] for r in range(ag.shape[0])]
+        pair_row = {}
+        dof_motion = self.dof_motion.copy()
+        for i, (r, c) in enumerate(zip(self.dof_motion, np.asarray(infl, float))):
+            if c == 1.0:
+                continue
+            key = (int(r), float(c))
+            if key not in pair_row:
+                pair_row[key] = len(rows)
+                rows.append(c * ag[r])
+            dof_motion[i] = pair_row[key]
+        return np.vstack(rows), dof_motion
 
     def _springs(self, A: np.ndarray, values) -> np.ndarray:
         """Add the two-node elements with coefficients ``values`` into the dense matrix A."""

@@ -309,3 +309,58 @@ def _exact_trial(h, g_t, g_1, beta, gamma, md_start, md_phi_t, md_phi_tm, md_w2,
         Vv[i] -= cc * Du[i]
         Av[i] -= cm * Du[i]
     return es
+
+
+@njit(cache=True)
+def _exact_waiting(lo, hi, co, g0, g1, md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam, u, v, du_w, u_w1, v_w1,
+                   a_w1):
+    """A waiting step of the buildings on DOFs lo..hi-1, exact for the piecewise-linear ground motion.
+
+    Multi-rate stepping's one step per analysis step (``_multirate._waiting_trial``)
+    under the exact scheme: each of the buildings' modes advances by its exact
+    recurrence (coefficients ``co`` (8, n) for the step's length; ``_exact.py``),
+    with g0, g1 (nm,) the ground accelerations at the step's ends.  The end
+    state goes to u_w1, v_w1, a_w1 and the increment to du_w, as
+    ``_waiting_trial`` leaves them (u, v stay until ``_waiting_commit``).
+    """
+    for c in range(md_start.size - 1):
+        o = md_start[c]
+        e = md_start[c + 1]
+        if o < lo or e > hi:
+            continue
+        m = e - o
+        q = np.empty(m)
+        qv = np.empty(m)
+        qa = np.empty(m)
+        for r in range(m):  # q = Phi^T M u on this block
+            sq = 0.0
+            sv = 0.0
+            for k in range(m):
+                sq += md_phi_tm[o + r, o + k] * u[o + k]
+                sv += md_phi_tm[o + r, o + k] * v[o + k]
+            q[r] = sq
+            qv[r] = sv
+        for r in range(m):
+            j = o + r
+            p0 = 0.0
+            p1 = 0.0
+            for row in range(g0.size):
+                p0 -= md_gam[row, j] * g0[row]
+                p1 -= md_gam[row, j] * g1[row]
+            q1, v1 = exact_step(co, j, q[r], qv[r], p0, p1)
+            q[r] = q1
+            qv[r] = v1
+            qa[r] = p1 - md_c[j] * v1 - md_w2[j] * q1
+        for i in range(m):  # u = Phi q (md_phi_t holds Phi^T)
+            su = 0.0
+            sv = 0.0
+            sa = 0.0
+            for r in range(m):
+                ph = md_phi_t[o + r, o + i]
+                su += ph * q[r]
+                sv += ph * qv[r]
+                sa += ph * qa[r]
+            u_w1[o + i] = su
+            v_w1[o + i] = sv
+            a_w1[o + i] = sa
+            du_w[o + i] = su - u[o + i]

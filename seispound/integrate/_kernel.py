@@ -99,7 +99,8 @@ from ._contact import (
     _newton,
 )
 from ._events import LAND_TOL, _event_in_step
-from ._free_flight import _block_matvec, _exact_trial, _free_flight
+from ._exact import exact_coefficients
+from ._free_flight import _block_matvec, _exact_trial, _exact_waiting, _free_flight
 from ._ground import GU0, GU1, GV0, GV1, _gap_ground_accept, _gap_ground_all, _gap_ground_at, _ground_all
 from ._linear import (
     SEMISEPARABLE_GAPS,
@@ -501,9 +502,13 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     g_w1[r] = ag[r, step + 1]
                 # the waiting buildings take the whole analysis step at once (factor of level 0)
                 for w in range(n_wrun):
-                    _waiting_trial(w_lo[w], w_hi[w], w_elo[w], w_ehi[w], dt, L_lev[0], p, beta, gamma, mass,
-                                   dof_a0, dof_motion, el_i, el_j, el_k, el_a1, g_w1, u, v, a, Av, Vv, fs, fd, R0,
-                                   du_w, u_w1, v_w1, a_w1)
+                    if exact:  # exact for the piecewise-linear ground motion, as in free flight
+                        _exact_waiting(w_lo[w], w_hi[w], ex_co, g_w0, g_w1, md_start, md_phi_t, md_phi_tm, md_w2,
+                                       md_c, md_gam, u, v, du_w, u_w1, v_w1, a_w1)
+                    else:
+                        _waiting_trial(w_lo[w], w_hi[w], w_elo[w], w_ehi[w], dt, L_lev[0], p, beta, gamma, mass,
+                                       dof_a0, dof_motion, el_i, el_j, el_k, el_a1, g_w1, u, v, a, Av, Vv, fs, fd,
+                                       R0, du_w, u_w1, v_w1, a_w1)
                     stats[S_DOF_STEPS] += w_hi[w] - w_lo[w]
                 # a gap between waiting buildings that may close in this step: its buildings step
                 # (a gap between a waiting and a stepping building is screened at every substep)
@@ -862,7 +867,13 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         continue
                     lo = blk_dof[b]
                     hi = blk_dof[b + 1]
-                    if hw > 0.0:
+                    if hw > 0.0 and exact:  # the catch-up step, exact too (coefficients for its length)
+                        if hw != h_ex[0]:
+                            exact_coefficients(md_w2, md_c, hw, ex_h)
+                            h_ex[0] = hw
+                        _exact_waiting(lo, hi, ex_h, g_w0, g_t, md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam,
+                                       u, v, du_w, u_w1, v_w1, a_w1)
+                    elif hw > 0.0:
                         if not _factor_range(hw, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_w,
                                              lo, hi, blk_el[b], blk_el[b + 1]):
                             return NEWTON_FAILED, n_imp, t
@@ -870,6 +881,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         _waiting_trial(lo, hi, blk_el[b], blk_el[b + 1], hw, L_w, p, beta, gamma, mass, dof_a0,
                                        dof_motion, el_i, el_j, el_k, el_a1, g_t, u, v, a, Av, Vv, fs, fd, R0,
                                        du_w, u_w1, v_w1, a_w1)
+                    if hw > 0.0:
                         e_in, w_int = _waiting_commit(lo, hi, mass, dof_motion, g_w0, g_t, du_w, v_w1, a_w1,
                                                       u, v, a, fint, umax, e_in, w_int)
                         stats[S_DOF_STEPS] += hi - lo

@@ -168,7 +168,8 @@ def summary(ds, out=None) -> str:
     lines = [f"{ds.attrs.get('title', '')}"]
     nb, ng, ni = ds.sizes["building"], ds.sizes["gap"], ds.sizes["impact"]
     lines.append(f"  {nb} buildings, {ng} gap elements, {ni} impacts, "
-                 f"{float(ds.time[-1]):.3g} s at dt = {ds.attrs['dt']:g} s")
+                 f"{float(ds.time[-1]):.3g} s at dt = {ds.attrs['dt']:g} s"
+                 + (f" ({ds.attrs['scheme']} scheme)" if "scheme" in ds.attrs else ""))
     if ng:
         lines.append("  gap  between        floors  size [m]  impacts  peak force [kN]")
         for g in range(ng):

@@ -138,6 +138,7 @@ CASES = {
                                   "building.B.ground_motion.file"),
     "motion_order_zero": (_b_motion("{ lowpass = 5.0, lowpass_order = 0 }"), None, "model",
                           "building.B.ground_motion.lowpass_order"),
+    "scheme_unknown": (sub("dt = 0.005", 'dt = 0.005\nscheme = "rk4"'), None, "model", "analysis.scheme"),
     "restitution_form_unknown": (sub("restitution = 0.65", 'restitution = { form = "cubic", e0 = 0.9 }'), None,
                                  "model", "contact.restitution.form"),
     "restitution_table_not_increasing": (

@@ -66,7 +66,7 @@ def test_summary_matches_the_dataset(cli_run):
     assert lines[0] == "Two buildings of different height, El Centro 1940, Hd contact"
     ni = ds.sizes["impact"]
     assert lines[1].strip() == (f"2 buildings, 4 gap elements, {ni} impacts, "
-                                f"{DURATION:.3g} s at dt = 0.005 s")
+                                f"{DURATION:.3g} s at dt = 0.005 s (exact scheme)")
     rows = [m.groups() for m in map(_GAP_ROW.match, lines) if m]
     assert len(rows) == 4 == ds.sizes["gap"]
     counts = [int(r[6]) for r in rows]

@@ -37,7 +37,7 @@ def both(system, ag, dt, nsteps, newmark=None, store=True, scheme="newmark"):
     return a, b
 
 
-def assert_same(a, b, energy_scale):
+def assert_same(a, b, energy_scale, energy_tol=TOL):
     assert a.impacts["gap"].tolist() == b.impacts["gap"].tolist()
     for key in ("t0", "v0", "vout", "fmax", "dur", "zeta"):
         x, y = a.impacts[key], b.impacts[key]
@@ -46,7 +46,7 @@ def assert_same(a, b, energy_scale):
         x, y = getattr(a, name), getattr(b, name)
         if np.any(y):
             assert rel(x, y) <= TOL, name
-    assert np.max(np.abs(a.energy - b.energy)) <= TOL * energy_scale
+    assert np.max(np.abs(a.energy - b.energy)) <= energy_tol * energy_scale
 
 
 @pytest.mark.parametrize("name", ["two_buildings.toml", "slab_pendulum.toml"])
@@ -82,10 +82,12 @@ def test_one_ground_motion_per_building():
     s = dataclasses.replace(s, dof_motion=np.array([0] * 5 + [1] * 8))
     ag1, nsteps = el_centro(12.0, 0.005)
     ag = np.vstack([ag1, 0.8 * np.roll(ag1, 4)])  # (gaps close on absolute positions: keep the grounds close)
-    for scheme in ("newmark", "exact"):
+    # (exact scheme: the blocks take the input work exactly, the physical path's steps by the
+    # trapezoidal rule, so their energy terms differ by that rule's error, measured 5.6e-4)
+    for scheme, energy_tol in (("newmark", TOL), ("exact", 1e-3)):
         a, b = both(s, ag, 0.005, nsteps, scheme=scheme)
         assert a.impacts["gap"].size > 0 and a.stats["free_flight_steps"] > 0
-        assert_same(a, b, np.max(np.abs(b.energy[:, 0])))
+        assert_same(a, b, np.max(np.abs(b.energy[:, 0])), energy_tol)
 
 
 def test_non_classical_damping_steps_physically():

@@ -38,8 +38,9 @@ def test_pounding_error_does_not_grow_with_the_step(dt):
 
 
 def test_energy_balance_under_the_exact_scheme():
-    """The energy terms are trapezoidal sums, exact for Newmark's trajectories only: under the exact scheme the
-    balance closes to the quadrature error, measured 4.5e-4 (pair) and 5.2e-4 (row of three) of the input."""
+    """Free-flight blocks take each mode's input work exactly (int p q' dt with p linear; the damping work then
+    follows from the exact trajectory); the physical path's steps keep the trapezoidal sums, exact for
+    Newmark's trajectories only, so the balance under the exact scheme closes to their error: 7e-6 here."""
     import numpy as np
 
     from seispound.contact import make_law
@@ -55,4 +56,4 @@ def test_energy_balance_under_the_exact_scheme():
     res = {s: np.abs(x[:, 0] - x[:, 1:].sum(axis=1)).max() / np.abs(x[:, 0]).max() for s, x in e.items()}
     print(f"MEASURED energy residual / largest input: Newmark {res['newmark']:.1e}, exact {res['exact']:.1e}")
     assert res["newmark"] <= 1e-12
-    assert res["exact"] <= 1e-3
+    assert res["exact"] <= 1e-4

@@ -48,3 +48,25 @@ def test_study_axis_by_names_equals_axis_by_index(tmp_path):
     assert int((a.status == 1).sum()) == 4
     np.testing.assert_array_equal(a.peak_pounding_force.values, b.peak_pounding_force.values)
     np.testing.assert_array_equal(a.amplification.values, b.amplification.values)
+
+
+def test_paths_reach_the_new_model_keys(tmp_path):
+    """A study or a fit addresses e(v0) parameters, a building's delay and the scheme by the same dotted paths."""
+    import tomllib
+
+    from seispound.model import parse_model
+    from seispound.study.paths import get_value, set_value
+    from tests.cli.test_bad_input import BASE, write_model
+
+    text = BASE.replace("restitution = 0.65", 'restitution = { form = "exponential", e0 = 0.9, e_inf = 0.5, v_c = 0.3 }')
+    text = text.replace('name = "B"\nfloors = 8\n', 'name = "B"\nfloors = 8\nground_motion = { delay = 0.02 }\n')
+    data = tomllib.loads(text)
+    assert get_value(data, "contact.restitution.v_c") == 0.3
+    set_value(data, "contact.restitution.v_c", 0.9)
+    set_value(data, "building.B.ground_motion.delay", 0.07)
+    set_value(data, "analysis.scheme", "newmark")
+    write_model(tmp_path)  # the record next to the model
+    model = parse_model(data, base=tmp_path)
+    assert model.contact.restitution.v_c == 0.9
+    assert model.buildings[1].ground_motion.delay == 0.07
+    assert model.analysis.scheme == "newmark"

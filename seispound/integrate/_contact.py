@@ -29,6 +29,23 @@ from ._linear import _dense_solve
 ONSET_GRADING = 6
 
 
+@njit(cache=True)
+def _end_impact(g, t, rg, m_act, act_list, active, cur_imp, imp_t0, imp_dur, imp_vout):
+    """Close gap g's impact at time t with separation rate rg: its catalogue row (duration, exit
+    velocity -rg) and the list of closed gaps; returns the new number of closed gaps."""
+    active[g] = False
+    for q in range(m_act):
+        if act_list[q] == g:
+            act_list[q] = act_list[m_act - 1]
+            m_act -= 1
+            break
+    q = cur_imp[g]
+    imp_dur[q] = t - imp_t0[q]
+    imp_vout[q] = -rg
+    cur_imp[g] = -1
+    return m_act
+
+
 @njit(cache=True, inline="always")
 def _gap_kinematics(xi, dxi, xj, dxj, vi, dvi, vj, dvj, size, gu, gv):
     """Deformation of a gap element: penetration [m] and its rate [m/s], positive on approach.

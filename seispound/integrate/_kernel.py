@@ -92,6 +92,7 @@ from ._borrow import borrow, keep_alive
 from ._contact import (
     ONSET_GRADING,
     _begin_impact,
+    _end_impact,
     _gap_deformation,
     _gap_kinematics,
     _gap_trial,
@@ -968,16 +969,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     act_list[m_act] = g
                     m_act += 1
                 else:
-                    active[g] = False
-                    for q in range(m_act):
-                        if act_list[q] == g:
-                            act_list[q] = act_list[m_act - 1]
-                            m_act -= 1
-                            break
-                    q = cur_imp[g]
-                    imp_dur[q] = t - imp_t0[q]
-                    imp_vout[q] = -rg
-                    cur_imp[g] = -1
+                    m_act = _end_impact(g, t, rg, m_act, act_list, active, cur_imp, imp_t0, imp_dur, imp_vout)
                     F[g] = 0.0
             if n_tog > 0:
                 n_comp = _group_contacts(m_act, act_list, gap_lo, gap_hi, comp_off)

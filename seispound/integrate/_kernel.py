@@ -590,6 +590,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
             n_land = 0
             located = False
             join_gap = -1
+            # ======== ATTEMPT LOOP: predictor, contact Newton, event screen; redone up to an event ========
             for attempt in range(200):
                 # ---- factor K_hat(h): cached per dt/2^k level, scratch otherwise
                 lv = -1
@@ -624,8 +625,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     _ground_all(ag, t + h, dt, g_1)
                 if moving:
                     _gap_ground_all(gap_ground, t + h, dt, gk, GU1)
-                # the step with every contact force frozen at zero, on the stepping buildings' runs
-                # (exact when no gap is closed)
+                # ---- PREDICTOR: the step with every contact force frozen at zero, on the stepping
+                # buildings' runs (exact when no gap is closed)
                 es = 0.0
                 if exact and m_act == 0:
                     # every gap open (around an event): the exact modal step, as in free flight
@@ -654,6 +655,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     pending = -1
                 stats[S_ITERATIONS] += 1
                 stats[S_DOF_STEPS] += n_s_dof
+                # ---- CONTACT NEWTON on the forces of the closed gaps (condensed through K_hat^-1)
                 converged = m_act == 0
                 if m_act > 0:
                     # G = B^T K_hat^-1 B on the gaps in contact.  A level factor
@@ -752,7 +754,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     if h < hmin:
                         return NEWTON_FAILED, n_imp, t
                     continue
-                # ---- events inside the step? (gap states at the end from Du) ----
+                # ---- EVENT SCREEN: does a gap open or close inside the step? (end states from Du)
                 landed = False
                 if target >= 0:
                     ii = gap_i[target]
@@ -907,7 +909,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 return NEWTON_FAILED, n_imp, t
             # (toggle_now >= 0: the events are at the current time, switched below without moving)
             if toggle_now < 0:
-                # ---- accept the step: energy, state, peaks ---------------------
+                # ======== ACCEPT / COMMIT: energy, state, peaks, contact forces ========
                 stats[S_STEPS] += 1
                 if waiting:
                     for rr in range(n_run):
@@ -954,7 +956,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                         toggles[n_tog] = land_too[k_t]
                         n_tog += 1
             for k_t in range(n_tog):
-                # ---- switch gap g: onset or end of an impact --------------------
+                # ---- switch gap g: onset (the law's onset hook) or end of an impact
                 g = toggles[k_t]
                 dg, rg = _gap_deformation(u, v, gap_i[g], gap_j[g], gap_size[g], gk[GU0, g], gk[GV0, g])
                 if not active[g]:

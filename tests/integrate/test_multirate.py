@@ -104,16 +104,21 @@ def _pair(p, k_contact=2.75e9):
     return [a, b], [Gap((a.name, b.name), 0.01)]
 
 
-@pytest.fixture(scope="module")
-def pairs_case():
-    k = 4
-    law = make_law("Hd", stiffness=2.75e9, restitution=E_HD)
+def _pairs_row(k, law):
+    """k pairs side by side in one row, no gap between the pairs."""
     bs, gaps = [], []
     for p in range(k):
         b2, g2 = _pair(p)
         bs += b2
         gaps += g2
-    row = assemble(bs, gaps, law)
+    return assemble(bs, gaps, law)
+
+
+@pytest.fixture(scope="module")
+def pairs_case():
+    k = 4
+    law = make_law("Hd", stiffness=2.75e9, restitution=E_HD)
+    row = _pairs_row(k, law)
     ag, nsteps = el_centro(10.0, 0.005)
     # every pair may wait whatever its share of the row (the default WAIT_SHARE lets the
     # waiting buildings wait only when they hold half the DOFs: a cost rule, not physics)
@@ -161,12 +166,7 @@ def test_under_the_exact_scheme_waiting_is_exact_too():
     its free flight alone; single-rate stepping takes it through another pair's contact substeps instead."""
     k = 4
     law = make_law("Hd", stiffness=2.75e9, restitution=E_HD)
-    bs, gaps = [], []
-    for p in range(k):
-        b2, g2 = _pair(p)
-        bs += b2
-        gaps += g2
-    row = assemble(bs, gaps, law)
+    row = _pairs_row(k, law)
     ag, nsteps = el_centro(10.0, 0.005)
     rows = {mr: integrate(row, ag, 0.005, nsteps, multirate=mr, wait_share=0.0) for mr in (True, False)}
     alone = [integrate(assemble(*_pair(p), law), ag, 0.005, nsteps) for p in range(k)]

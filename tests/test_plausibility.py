@@ -92,10 +92,15 @@ def test_step_too_coarse_for_the_modes_that_matter(tmp_path):
                                for b in model.buildings)
     assert mode == 2 and name == "A"  # uniform shear buildings: mode 1 holds 84-88 %, modes 1-2 above 90 %
     model.analysis.dt = 0.11 * period
+    model.analysis.scheme = "newmark"
     found = [f for f in check_before_run(model, None) if f.code == "coarse_step"]
     assert len(found) == 1 and f"building A's mode {mode} (T = {period:.3g} s)" in found[0].message
     err = (2 * np.pi * 0.11) ** 2 / 12 * 100  # average acceleration: period error (omega dt)^2 / 12
     assert f"about {err:.2g} % long" in found[0].message
+    model.analysis.scheme = "exact"  # no period error; the sampling of peaks remains
+    found = [f for f in check_before_run(model, None) if f.code == "coarse_step"]
+    under = (1 - np.cos(np.pi * 0.11)) * 100
+    assert len(found) == 1 and f"under-read by up to {under:.2g} %" in found[0].message
     model.analysis.dt = 0.099 * period
     assert [f for f in check_before_run(model, None) if f.code == "coarse_step"] == []
 

@@ -99,7 +99,7 @@ from ._contact import (
     _group_contacts,
     _newton,
 )
-from ._events import LAND_TOL, _event_in_step
+from ._events import LAND_TOL, _event_in_step, _screen_step
 from ._exact import exact_coefficients
 from ._free_flight import _block_matvec, _exact_trial, _exact_waiting, _free_flight
 from ._ground import GU0, GU1, GV0, GV1, _gap_ground_accept, _gap_ground_all, _gap_ground_at, _ground_all
@@ -111,13 +111,12 @@ from ._linear import (
     _internal,
     _internal_range,
     _inverse_diagonals_range,
-    _solve,
     _strain_energy,
     _subtract_contact,
     _woodbury_columns,
 )
 from ._multirate import _gap_state, _runs, _screen_list, _waiting_commit, _waiting_trial
-from ._newmark_step import _accept_rows, _linear_trial
+from ._newmark_step import _accept_rows, _newmark_predictor
 from ._outputs import (  # noqa: F401 (re-exported)
     E_CONTACT,
     E_DAMPING,
@@ -633,22 +632,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     es = _exact_trial(h, g_t, g_1, beta, gamma, md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam,
                                       ex_h, h_ex, u, v, mq, mqv, Du, Vv, Av)
                     modal_current = False
-                elif n_run == 1 and r_hi[0] - r_lo[0] == n:
-                    # the whole row steps (single-rate, or nobody waits): the same loops over 0..n-1,
-                    # which LLVM optimises better than the range version (measured 11-13 % per attempt)
-                    for i in range(n):
-                        Av[i] = -v[i] / (beta * h) - (0.5 / beta - 1.0) * a[i]
-                        Vv[i] = (1.0 - gamma / beta) * v[i] + h * (1.0 - 0.5 * gamma / beta) * a[i]
-                    _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, Vv, fs, fd)
-                    for i in range(n):
-                        R0[i] = -mass[i] * (g_1[dof_motion[i]] + Av[i]) - fd[i] - fs[i]
-                        es += fs[i] * u[i]
-                    _solve(Lf, p, R0, Du)
                 else:
-                    for rr in range(n_run):
-                        es += _linear_trial(r_lo[rr], r_hi[rr], r_elo[rr], r_ehi[rr], h, Lf, p, beta, gamma, mass,
-                                            dof_a0, dof_motion, el_i, el_j, el_k, el_a1, g_1, u, v, a, Av, Vv, fs, fd,
-                                            R0, Du)
+                    es = _newmark_predictor(n_run, r_lo, r_hi, r_elo, r_ehi, h, Lf, p, beta, gamma, mass, dof_a0,
+                                            dof_motion, el_i, el_j, el_k, el_a1, g_1, u, v, a, Av, Vv, fs, fd, R0, Du)
                 if pending >= 0:  # (the whole row steps here: a waiting step settled it already)
                     out_e[pending, E_STRAIN] = 0.5 * es
                     out_e[pending, E_DAMPING] -= 0.5 * es - es0
@@ -761,10 +747,6 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     jj = gap_j[target]
                     dtg, rtg = _gap_trial(u, Du, Vv, cc, ii, jj, gap_size[target], gk[GU1, target], gk[GV1, target])
                     landed = abs(dtg) <= LAND_TOL * max(abs(rtg), abs(r0[target])) * h + 1e-15
-                theta = 2.0
-                g_ev = -1
-                ev_waits = False
-                n_land = 0
                 if waiting:
                     # gaps with a waiting side (scr[n_ss:]): it moves along its own step's
                     # trajectory (``_waiting_state``), here at the end of this substep;
@@ -801,33 +783,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                                                              gk[GU1, g], gk[GV1, g])
                 # screen every gap (or, while some building waits, those in the list scr: the
                 # gaps with a stepping side; scr[n_ss:] have a waiting side, computed above)
-                for qq in range(n_scr if waiting else ng):
-                    g = scr[qq] if waiting else qq
-                    waits = waiting and qq >= n_ss
-                    if waits:
-                        d1 = d_end[g]
-                        r1 = r_end[g]
-                    else:
-                        ii = np.uint64(gap_i[g])
-                        jj = np.uint64(gap_j[g])
-                        d1, r1 = _gap_trial(u, Du, Vv, cc, ii, jj, gap_size[g], gk[GU1, g], gk[GV1, g])
-                    d_end[g] = d1
-                    r_end[g] = r1
-                    if gap_law[g] == NONE or (landed and g == target):
-                        continue
-                    tol = LAND_TOL * max(abs(r0[g]), abs(r1)) * h + 1e-15
-                    # an open gap may touch, a closed one separate, even within the step
-                    th = _event_in_step(d0[g], r0[g], d1, r1, h, not active[g], tol)
-                    if landed and not waits and ((d1 >= -tol and r1 > 0.0 and not active[g])
-                                                 or (d1 <= tol and r1 < 0.0 and active[g])):
-                        # at its own crossing as well, within the landing tolerance (identical
-                        # floors): it switches with the target, not one attempt later
-                        land_too[n_land] = g
-                        n_land += 1
-                    if th < theta:
-                        theta = th
-                        g_ev = g
-                        ev_waits = waits
+                theta, g_ev, ev_waits, n_land = _screen_step(
+                    waiting, scr, n_ss, n_scr, gap_i, gap_j, gap_size, gap_law, active, u, Du, Vv, cc, h, gk,
+                    d0, r0, d_end, r_end, landed, target, land_too)
                 if ev_waits:
                     # a waiting building may touch a stepping one in this substep: it
                     # catches up to the substep's start and steps from there (below)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._linear import _internal_range, _solve_range
+from ._linear import _internal, _internal_range, _solve, _solve_range
 
 
 @njit(cache=True, inline="always")
@@ -61,4 +61,32 @@ def _linear_trial(lo, hi, elo, ehi, h, Lf, p, beta, gamma, mass, dof_a0, dof_mot
         R0[i] = -mass[i] * (g1[dof_motion[i]] + Av[i]) - fd[i] - fs[i]
         es += fs[i] * u[i]
     _solve_range(Lf, p, R0, Du, lo, hi)
+    return es
+
+
+@njit(cache=True, inline="always")
+def _newmark_predictor(n_run, r_lo, r_hi, r_elo, r_ehi, h, Lf, p, beta, gamma, mass, dof_a0, dof_motion, el_i, el_j,
+                       el_k, el_a1, g1, u, v, a, Av, Vv, fs, fd, R0, Du):
+    """The predictor of a trial step of size h on the stepping buildings' runs: :func:`_linear_trial` on each.
+
+    When the whole row steps (single-rate, or nobody waits) the same loops run
+    over 0..n-1, which LLVM optimises better than the range version (measured
+    11-13 % per attempt).  Returns sum (K u)_i u_i over the rows stepped.
+    (Inlined at numba IR level, as the driver's other hot parts.)
+    """
+    n = mass.size
+    es = 0.0
+    if n_run == 1 and r_hi[0] - r_lo[0] == n:
+        for i in range(n):
+            Av[i] = -v[i] / (beta * h) - (0.5 / beta - 1.0) * a[i]
+            Vv[i] = (1.0 - gamma / beta) * v[i] + h * (1.0 - 0.5 * gamma / beta) * a[i]
+        _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, Vv, fs, fd)
+        for i in range(n):
+            R0[i] = -mass[i] * (g1[dof_motion[i]] + Av[i]) - fd[i] - fs[i]
+            es += fs[i] * u[i]
+        _solve(Lf, p, R0, Du)
+        return es
+    for rr in range(n_run):
+        es += _linear_trial(r_lo[rr], r_hi[rr], r_elo[rr], r_ehi[rr], h, Lf, p, beta, gamma, mass, dof_a0,
+                            dof_motion, el_i, el_j, el_k, el_a1, g1, u, v, a, Av, Vv, fs, fd, R0, Du)
     return es

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .integrate._kernel import _factor, _internal, _solve
+from .integrate._linear import _factor, _internal, _solve
 
 
 @njit(cache=True)

@@ -119,15 +119,19 @@ class ContactLaw:
 
     def validate(self, key: str = "contact") -> None:
         """Raise InputError naming ``key`` if a parameter is out of range."""
-        k, e = self.stiffness, self.restitution
-        if not _is_real(k) or not k > 0 or not math.isfinite(k):
-            raise InputError(f"stiffness must be a finite number > 0, got {k!r}", key=f"{key}.stiffness")
+        self._validate_stiffness_and_tension(key)
+        e = self.restitution
         if isinstance(e, dict):  # a form given as a table (from Python or a study path)
             self.restitution = e = restitution_from(e, f"{key}.restitution")
         if isinstance(e, Restitution):
             e.validate(f"{key}.restitution")
         elif not _is_real(e) or not (0.0 < e <= 1.0):
             raise InputError(f"restitution must be in (0, 1], got {e!r}", key=f"{key}.restitution")
+
+    def _validate_stiffness_and_tension(self, key: str) -> None:
+        k = self.stiffness
+        if not _is_real(k) or not k > 0 or not math.isfinite(k):
+            raise InputError(f"stiffness must be a finite number > 0, got {k!r}", key=f"{key}.stiffness")
         if self.tension is not None and not isinstance(self.tension, bool):
             raise InputError(f"tension must be true or false, got {self.tension!r}", key=f"{key}.tension")
 
@@ -148,17 +152,22 @@ class ContactLaw:
 
     def kernel_params(self, m1: float, m2: float) -> np.ndarray:
         """Parameter row for the kernel, shape (N_PAR,), for floors of mass m1, m2 [kg]."""
-        row = np.zeros(S.N_PAR)
-        row[S.P_K] = float(self.stiffness)
+        row = self._common_row(m1, m2)
         if self.velocity_dependent:  # e and the damping from it are set at each onset
             row[S.P_E] = np.nan
             self.restitution.kernel_columns(row)
         else:
             row[S.P_E] = float(self.restitution)
             row[S.P_XI] = self.damping_ratio()
+        return row
+
+    def _common_row(self, m1: float, m2: float) -> np.ndarray:
+        """The columns every law fills: stiffness, effective mass, tension, exponent."""
+        row = np.zeros(S.N_PAR)
+        row[S.P_K] = float(self.stiffness)
         row[S.P_MEFF] = m1 * m2 / (m1 + m2)
         row[S.P_TENSION] = 1.0 if self.allows_tension else 0.0
-        row[S.P_EXPONENT] = self.exponent
+        row[S.P_EXPONENT] = float(self.exponent)
         return row
 
     # -- evaluation from Python ----------------------------------------------
@@ -379,16 +388,13 @@ class HuntCrossley(ContactLaw):
         ]
 
     def validate(self, key: str = "contact") -> None:
-        k, c, n = self.stiffness, self.damping_constant, self.exponent
-        if not _is_real(k) or not k > 0 or not math.isfinite(k):
-            raise InputError(f"stiffness must be a finite number > 0, got {k!r}", key=f"{key}.stiffness")
+        self._validate_stiffness_and_tension(key)
+        c, n = self.damping_constant, self.exponent
         if not _is_real(c) or not c >= 0 or not math.isfinite(c):
             raise InputError(f"damping_constant must be a number >= 0 in s/m, got {c!r}",
                              key=f"{key}.damping_constant")
         if not _is_real(n) or not 1.0 <= n <= 3.0:
             raise InputError(f"exponent must lie in [1, 3], got {n!r}", key=f"{key}.exponent")
-        if self.tension is not None and not isinstance(self.tension, bool):
-            raise InputError(f"tension must be true or false, got {self.tension!r}", key=f"{key}.tension")
 
     @property
     def velocity_dependent(self) -> bool:
@@ -405,11 +411,7 @@ class HuntCrossley(ContactLaw):
         return out
 
     def kernel_params(self, m1: float, m2: float) -> np.ndarray:
-        row = np.zeros(S.N_PAR)
-        row[S.P_K] = float(self.stiffness)
+        row = self._common_row(m1, m2)
         row[S.P_E] = np.nan  # set at each onset from the approach velocity
         row[S.P_XI] = float(self.damping_constant)
-        row[S.P_MEFF] = m1 * m2 / (m1 + m2)
-        row[S.P_TENSION] = 1.0 if self.allows_tension else 0.0
-        row[S.P_EXPONENT] = float(self.exponent)
         return row

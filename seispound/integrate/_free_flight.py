@@ -64,9 +64,17 @@ def _block_matvec(md_start, A, x, y, transposed):
     With A = md_phi_tm (Phi^T M): modal coordinates of a physical vector; with
     A = md_phi_t (Phi^T) and ``transposed``: the physical vector of modal ones.
     """
+    _block_matvec_range(md_start, A, x, y, transposed, 0, x.size)
+
+
+@njit(cache=True)
+def _block_matvec_range(md_start, A, x, y, transposed, lo, hi):
+    """:func:`_block_matvec` on the blocks that lie within DOFs lo..hi-1 (whole buildings)."""
     for c in range(md_start.size - 1):
         o = md_start[c]
         e = md_start[c + 1]
+        if o < lo or e > hi:
+            continue
         for r in range(o, e):
             s = 0.0
             for q in range(o, e):
@@ -267,16 +275,8 @@ def _exact_trial(h, g_t, g_1, beta, gamma, md_start, md_phi_t, md_phi_tm, md_w2,
     qa = np.empty(n)
     es = 0.0
     for j in range(n):
-        p0 = 0.0
-        p1 = 0.0
-        for r in range(g_t.size):
-            p0 -= md_gam[r, j] * g_t[r]
-            p1 -= md_gam[r, j] * g_1[r]
         es += md_w2[j] * q[j] * q[j]
-        q1, v1 = exact_step(co, j, q[j], qv[j], p0, p1)
-        q[j] = q1
-        qv[j] = v1
-        qa[j] = p1 - md_c[j] * v1 - md_w2[j] * q1
+    _modal_steps(co, g_t, g_1, md_w2, md_c, md_gam, q, qv, qa, 0, n)
     _block_matvec(md_start, md_phi_t, q, Du, True)
     _block_matvec(md_start, md_phi_t, qv, Vv, True)
     _block_matvec(md_start, md_phi_t, qa, Av, True)
@@ -301,44 +301,35 @@ def _exact_waiting(lo, hi, co, g0, g1, md_start, md_phi_t, md_phi_tm, md_w2, md_
     state goes to u_w1, v_w1, a_w1 and the increment to du_w, as
     ``_waiting_trial`` leaves them (u, v stay until ``_waiting_commit``).
     """
-    for c in range(md_start.size - 1):
-        o = md_start[c]
-        e = md_start[c + 1]
-        if o < lo or e > hi:
-            continue
-        m = e - o
-        q = np.empty(m)
-        qv = np.empty(m)
-        qa = np.empty(m)
-        for r in range(m):  # q = Phi^T M u on this block
-            sq = 0.0
-            sv = 0.0
-            for k in range(m):
-                sq += md_phi_tm[o + r, o + k] * u[o + k]
-                sv += md_phi_tm[o + r, o + k] * v[o + k]
-            q[r] = sq
-            qv[r] = sv
-        for r in range(m):
-            j = o + r
-            p0 = 0.0
-            p1 = 0.0
-            for row in range(g0.size):
-                p0 -= md_gam[row, j] * g0[row]
-                p1 -= md_gam[row, j] * g1[row]
-            q1, v1 = exact_step(co, j, q[r], qv[r], p0, p1)
-            q[r] = q1
-            qv[r] = v1
-            qa[r] = p1 - md_c[j] * v1 - md_w2[j] * q1
-        for i in range(m):  # u = Phi q (md_phi_t holds Phi^T)
-            su = 0.0
-            sv = 0.0
-            sa = 0.0
-            for r in range(m):
-                ph = md_phi_t[o + r, o + i]
-                su += ph * q[r]
-                sv += ph * qv[r]
-                sa += ph * qa[r]
-            u_w1[o + i] = su
-            v_w1[o + i] = sv
-            a_w1[o + i] = sa
-            du_w[o + i] = su - u[o + i]
+    n = u.size
+    q = np.empty(n)
+    qv = np.empty(n)
+    qa = np.empty(n)
+    _block_matvec_range(md_start, md_phi_tm, u, q, False, lo, hi)
+    _block_matvec_range(md_start, md_phi_tm, v, qv, False, lo, hi)
+    _modal_steps(co, g0, g1, md_w2, md_c, md_gam, q, qv, qa, lo, hi)
+    _block_matvec_range(md_start, md_phi_t, q, u_w1, True, lo, hi)
+    _block_matvec_range(md_start, md_phi_t, qv, v_w1, True, lo, hi)
+    _block_matvec_range(md_start, md_phi_t, qa, a_w1, True, lo, hi)
+    for i in range(lo, hi):
+        du_w[i] = u_w1[i] - u[i]
+
+
+@njit(cache=True)
+def _modal_steps(co, g0, g1, md_w2, md_c, md_gam, q, qv, qa, lo, hi):
+    """Modes lo..hi-1 one exact step on (q, qv) in place, their accelerations into qa.
+
+    The modal load is -sum_r Gamma[r, j] a_g,r at both ends (g0, g1 (nm,)); the
+    acceleration follows from the mode's equation.  Shared by the physical
+    path's exact trial and the waiting buildings' exact step.
+    """
+    for j in range(lo, hi):
+        p0 = 0.0
+        p1 = 0.0
+        for r in range(g0.size):
+            p0 -= md_gam[r, j] * g0[r]
+            p1 -= md_gam[r, j] * g1[r]
+        q1, v1 = exact_step(co, j, q[j], qv[j], p0, p1)
+        q[j] = q1
+        qv[j] = v1
+        qa[j] = p1 - md_c[j] * v1 - md_w2[j] * q1

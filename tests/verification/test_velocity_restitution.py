@@ -97,9 +97,16 @@ def test_hunt_crossley_restitution_falls_with_approach_velocity():
 
 @pytest.mark.parametrize("law", ["MLVe", "NIVe"])
 def test_mlve_and_nive_deviations_are_measured(law):
+    """Printed for the table in docs/verification.md.  MLVe is checked against its closed form at e(v0)
+    (approach-only damped oscillator, ``e_mlve`` of test_impact_restitution.py); NIVe has none, and its
+    deviation is only bounded (it still dissipates: 0 < e_sim < 1)."""
+    from .test_impact_restitution import e_mlve
+
     devs = []
     for v0 in V0S:
         e_sim, e_used, v_app = impact(law, v0, **_params(law))
         devs.append(e_sim / e_used - 1.0)
+        if law == "MLVe":
+            assert e_sim == pytest.approx(e_mlve(e_used), rel=0.005)
+        assert 0.0 < e_sim < 1.0
     print(f"MEASURED {law}: e_sim / e(v0) - 1 at v0 = {V0S}: " + ", ".join(f"{d:+.3f}" for d in devs))
-    assert all(abs(d) < 0.5 for d in devs)  # a sanity bound: the law still dissipates, as tabulated

@@ -119,6 +119,7 @@ from ._multirate import _gap_state, _runs, _screen_list, _waiting_commit, _waiti
 from ._newmark_step import _accept_rows, _newmark_predictor
 from ._outputs import (  # noqa: F401 (re-exported)
     E_CONTACT,
+    E_HYSTERETIC,
     E_DAMPING,
     E_INPUT,
     E_KINETIC,

@@ -65,6 +65,18 @@ def _factor_range(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L, l
                 L[i, i - j] -= kk
             else:
                 L[j, j - i] -= kk
+    return _factor_band(L, p, lo, hi)
+
+
+@njit(cache=True, inline="always")
+def _factor_band(L, p, lo, hi):
+    """Factor in place the K_hat whose lower band L[i, d] = K_hat(i, i - d), d <= p, rows lo..hi-1 hold.
+
+    The storage and the two factorisations of ``_factor_range`` (tridiagonal
+    L D L^T for p = 1, banded Cholesky otherwise), which ``_solve_range``
+    reads; False if K_hat is not positive definite.  Shared by every driver
+    that assembles its own band (``_general.py``).
+    """
     if p == 1:  # shear buildings: tridiagonal LDL^T, one straight-line recurrence
         one = np.uint64(1)  # unsigned subscripts (``_UNSIGNED``)
         ulo = np.uint64(lo)

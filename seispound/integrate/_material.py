@@ -14,10 +14,15 @@ and its state; the element that links two DOFs computes the deformation
   step simply calls it again: that is the revert;
 * ``material_commit(committed, trial)``: the step is accepted.
 
+* ``material_energy(code, par, state, delta)``: the recoverable (elastic)
+  energy stored at deformation delta [J]; the work done on the law minus this
+  is what it dissipated (hysteretic energy, Uang & Bertero 1990).
+
 State rows have N_STATE entries.  Contact laws (codes of ``contact.codes``)
-keep (zeta, e) set at onset and do not change within an impact.  The bilinear
-storey law with kinematic hardening (BILINEAR) is the first law with history;
-hysteretic storey springs will use this protocol in the kernel.
+keep (zeta, e) set at onset and do not change within an impact.  Hysteretic
+storey laws: BILINEAR (kinematic hardening) and BOUC_WEN (smooth, Bouc 1967,
+Wen 1976).  The general driver (``_general.py``) calls every law through this
+protocol; the fast driver calls the contact branch directly.
 """
 
 from __future__ import annotations
@@ -29,14 +34,24 @@ from ..contact.codes import P_EXPONENT, P_K, P_MEFF, P_TENSION
 
 # state columns: contact laws
 ST_ZETA, ST_E = 0, 1
-# state columns: hysteretic laws (plastic deformation, hysteretic force)
+# state columns: BILINEAR (plastic deformation [m], hysteretic force [N])
 ST_PLASTIC, ST_Q = 0, 1
-N_STATE = 2
+# state columns: BOUC_WEN (hysteretic displacement z [m], the committed deformation [m])
+ST_Z, ST_DELTA = 0, 1
+N_STATE = 3
 
-# codes of history-carrying laws (beyond the contact codes)
-BILINEAR = 20
-# parameter columns of BILINEAR: initial stiffness k [N/m], yield force fy [N], post-yield ratio alpha [-]
-B_K, B_FY, B_ALPHA = 0, 1, 2
+# codes of history-carrying laws (beyond the contact codes, which stay below 20) and their parameter columns
+from ..storey.codes import (B_ALPHA, B_FY, B_K, BILINEAR, BOUC_WEN, BW_ALPHA, BW_BETA,  # noqa: E402, F401
+                            BW_DY, BW_GAMMA, BW_K, BW_N)
+# a Bouc-Wen trial integrates z over sub-increments of at most this fraction of dy (trapezoidal rule each)
+BW_SUBINCREMENT = 0.02
+BW_MAX_SUB = 256
+
+
+@njit(cache=True)
+def is_hysteretic(code):
+    """True for the storey laws with history (their codes start at BILINEAR)."""
+    return code >= BILINEAR
 
 
 @njit(cache=True)
@@ -73,8 +88,88 @@ def material_trial(code, par, committed, trial, delta, rate):
         trial[ST_PLASTIC] = delta - q / k
         trial[ST_Q] = q
         return alpha * k * delta + (1.0 - alpha) * q, kt, 0.0
+    if code == BOUC_WEN:
+        return _bouc_wen_trial(par, committed, trial, delta)
     return law_force(code, par[P_K], par[P_EXPONENT], par[P_MEFF], par[P_TENSION], delta, rate,
                      committed[ST_ZETA])
+
+
+@njit(cache=True)
+def _bouc_wen_phi(z, d, dy, n, beta, gamma):
+    """dz/d(delta) of the Bouc-Wen model with A = 1 and its derivative in z, for a step of sign d.
+
+    Phi = 1 - |z/dy|^n (beta sgn(d z) + gamma) (Wen 1976, J. Eng. Mech. Div.
+    102(2) 249-263, Eq. 2 divided by d(delta)/dt: the model is rate independent).
+    """
+    s = 1.0 if d * z >= 0.0 else -1.0
+    c = beta * s + gamma
+    x = abs(z) / dy
+    if x == 0.0:
+        return 1.0, 0.0
+    xn1 = x ** (n - 1.0)
+    phi = 1.0 - xn1 * x * c
+    dphi = -n * xn1 * c / dy * (1.0 if z > 0.0 else -1.0)
+    return phi, dphi
+
+
+@njit(cache=True)
+def _bouc_wen_trial(par, committed, trial, delta):
+    """Force and tangent of a Bouc-Wen storey at a trial deformation ``delta`` [m].
+
+    F = alpha k delta + (1 - alpha) k z (the issue's form of Wen 1976 with
+    A = 1: z is a displacement bounded by dy for beta + gamma = 1).  z is
+    carried from the committed deformation over sub-increments of at most
+    BW_SUBINCREMENT dy, each by the implicit trapezoidal rule
+    z1 = z0 + d/2 (Phi(z0) + Phi(z1)), solved by Newton; the tangent is the
+    exact derivative of that map (chain rule over the sub-increments), so
+    the driver's Newton converges quadratically.
+    """
+    k = par[BW_K]
+    dy = par[BW_DY]
+    alpha = par[BW_ALPHA]
+    n = par[BW_N]
+    beta = par[BW_BETA]
+    gamma = par[BW_GAMMA]
+    total = delta - committed[ST_DELTA]
+    n_sub = min(BW_MAX_SUB, 1 + int(abs(total) / (BW_SUBINCREMENT * dy)))
+    d = total / n_sub
+    z = committed[ST_Z]
+    dz = 0.0  # dz/d(total)
+    for _ in range(n_sub):
+        phi0, dphi0 = _bouc_wen_phi(z, d, dy, n, beta, gamma)
+        z1 = z + d * phi0
+        for _ in range(50):
+            phi1, dphi1 = _bouc_wen_phi(z1, d, dy, n, beta, gamma)
+            g = z1 - z - 0.5 * d * (phi0 + phi1)
+            dg = 1.0 - 0.5 * d * dphi1
+            step = g / dg
+            z1 -= step
+            if abs(step) <= 1e-15 * dy:
+                break
+        phi1, dphi1 = _bouc_wen_phi(z1, d, dy, n, beta, gamma)
+        dz = (dz * (1.0 + 0.5 * d * dphi0) + 0.5 * (phi0 + phi1) / n_sub) / (1.0 - 0.5 * d * dphi1)
+        z = z1
+    trial[ST_Z] = z
+    trial[ST_DELTA] = delta
+    return alpha * k * delta + (1.0 - alpha) * k * z, alpha * k + (1.0 - alpha) * k * dz, 0.0
+
+
+@njit(cache=True)
+def material_energy(code, par, state, delta):
+    """Recoverable energy [J] of a storey law in ``state`` at deformation ``delta`` [m] (0 for contact laws).
+
+    BILINEAR: alpha k delta^2 / 2 + (1 - alpha) q^2 / (2 k); BOUC_WEN:
+    alpha k delta^2 / 2 + (1 - alpha) k z^2 / 2 (the elastic energy of the
+    linear and hysteretic springs in parallel; what the law absorbed beyond
+    it is dissipated).
+    """
+    if code == BILINEAR:
+        k = par[B_K]
+        return 0.5 * par[B_ALPHA] * k * delta * delta + 0.5 * (1.0 - par[B_ALPHA]) * state[ST_Q] ** 2 / k
+    if code == BOUC_WEN:
+        k = par[BW_K]
+        return 0.5 * par[BW_ALPHA] * k * delta * delta + 0.5 * (1.0 - par[BW_ALPHA]) * k * state[ST_Z] ** 2
+    return 0.0
 
 
 @njit(cache=True)

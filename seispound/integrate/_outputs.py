@@ -7,6 +7,8 @@ IMPACT_CAPACITY = 2
 
 # columns of the energy output
 E_INPUT, E_KINETIC, E_STRAIN, E_DAMPING, E_CONTACT = 0, 1, 2, 3, 4
+# (the general driver adds the energy dissipated by hysteretic storeys)
+E_HYSTERETIC = 5
 
 # entries of the stats output
 S_STEPS, S_ITERATIONS, S_REJECTED, S_FACTORIZATIONS, S_MAX_ITER, S_FREE_FLIGHT, S_BLOCKS = 0, 1, 2, 3, 4, 5, 6

@@ -33,11 +33,15 @@ class RawResult:
     velocity: np.ndarray  # (nt, n) m/s, relative
     acceleration: np.ndarray  # (nt, n) m/s^2, absolute
     force: np.ndarray  # (nt, ng) N
-    energy: np.ndarray  # (nt, 5) J: input, kinetic, strain, damping, contact
+    energy: np.ndarray  # (nt, 6) J: input, kinetic, strain, damping, contact, hysteretic
     peak_displacement: np.ndarray  # (n,) m, over every substep
     peak_force: np.ndarray  # (ng,) N
     impacts: dict = field(default_factory=dict)  # arrays of length ni
     stats: dict = field(default_factory=dict)
+    # hysteretic storeys (general driver): their element indices (nh,) and forces (nt, nh) [N]
+    storey_elements: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    storey_force: np.ndarray | None = None
+    driver: str = "fast"
 
 
 def gap_blocks(system, gap_i, gap_j) -> tuple[np.ndarray, np.ndarray]:
@@ -130,7 +134,7 @@ def _exact_coefficients(basis, dt):
 def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newmark | None = None,
               impact_capacity: int | None = None, store_history: bool = True,
               free_flight: bool = True, multirate: bool = True, wait_share: float = WAIT_SHARE,
-              scheme: str = "exact") -> RawResult:
+              scheme: str = "exact", driver: str = "auto") -> RawResult:
     """Integrate a row of buildings under one (or one per DOF group) ground motion.
 
     Parameters
@@ -175,6 +179,15 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         the row's DOFs (default ``WAIT_SHARE`` = 0.5: below it, the
         bookkeeping costs more than the substeps it saves); 0 lets any
         building wait.
+    driver : {"auto", "fast", "general"}
+        "auto" (default): the fast driver (``_kernel.py``: lumped masses,
+        linear two-node storeys, floor-to-floor gaps; free flight, multi-rate
+        and the exact scheme where valid), or the general one
+        (``_general.py``: any element with state, coupled masses, elements on
+        three DOFs, gaps against storeys; Newmark throughout, every
+        optimisation off) when the row needs it
+        (``SystemArrays.needs_general_driver``).  "general" forces the
+        general driver on any row: the off switch the tests compare against.
 
     Returns
     -------
@@ -182,6 +195,13 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     """
     nm = newmark or Newmark()
     nm.validate()
+    if driver not in ("auto", "fast", "general"):
+        raise ValueError(f'driver must be "auto", "fast" or "general", got {driver!r}')
+    if driver == "fast" and system.needs_general_driver:
+        raise ValueError("this row needs the general driver (storeys with history, coupled masses, "
+                         "three-DOF elements or gaps against storeys)")
+    if driver == "general" or (driver == "auto" and system.needs_general_driver):
+        return _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capacity, store_history)
     if scheme not in ("exact", "newmark"):
         raise InputError(f'scheme must be "exact" or "newmark", got {scheme!r}', key="analysis.scheme")
     if not 0.0 <= wait_share <= 1.0:
@@ -228,11 +248,11 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     while True:
         # one buffer for every history: numpy backs allocations >= 4 MiB with
         # transparent huge pages, which saves ~1e3 page faults per run
-        hist = np.empty(nt * (3 * n + ng + 5))
+        hist = np.empty(nt * (3 * n + ng + 6))
         out = dict(
             out_u=hist[:nt * n].reshape(nt, n), out_v=hist[nt * n:2 * nt * n].reshape(nt, n),
             out_a=hist[2 * nt * n:3 * nt * n].reshape(nt, n),
-            out_f=hist[3 * nt * n:nt * (3 * n + ng)].reshape(nt, ng), out_e=hist[nt * (3 * n + ng):].reshape(nt, 5),
+            out_f=hist[3 * nt * n:nt * (3 * n + ng)].reshape(nt, ng), out_e=hist[nt * (3 * n + ng):].reshape(nt, 6),
             umax=np.empty(n), fmax=np.empty(ng),
             imp_gap=np.empty(cap, np.int64), imp_t0=np.empty(cap), imp_v0=np.empty(cap),
             imp_vout=np.empty(cap), imp_fmax=np.empty(cap), imp_dur=np.empty(cap), imp_zeta=np.empty(cap),
@@ -253,6 +273,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
             raise IntegrationError(f"Newton-Raphson did not converge at t = {t_reached:.6g} s "
                                    f"(try a smaller analysis.dt or more contact_substeps)")
         break
+    out["out_e"][:, K.E_HYSTERETIC] = 0.0  # no storey with history on this path
     imp = {k[4:]: out[k][:n_imp].copy() for k in out if k.startswith("imp_")}
     imp["gap"] = live[imp["gap"]]  # back to the system's gap numbering
     if live.size == ng_all:  # every gap in the kernel: its force history as it stands
@@ -271,3 +292,80 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     return RawResult(time=np.arange(nt) * dt, displacement=out["out_u"], velocity=out["out_v"],
                      acceleration=out["out_a"], force=force, energy=out["out_e"],
                      peak_displacement=out["umax"], peak_force=peak_force, impacts=imp, stats=stats)
+
+
+def _check_general_input(system, ag, dt, nsteps):
+    if ag.shape[1] != nsteps + 1:
+        raise ValueError(f"ground acceleration has {ag.shape[1]} samples, expected nsteps + 1 = {nsteps + 1}")
+    if not np.all(np.isfinite(ag)):
+        raise InputError("ground acceleration contains NaN or inf", key="ground_motion")
+    if not (dt > 0 and math.isfinite(dt)):
+        raise InputError(f"dt must be > 0, got {dt!r}", key="analysis.dt")
+    if int(system.dof_motion.max(initial=0)) >= ag.shape[0]:
+        raise ValueError("dof_motion refers to a missing ground-motion row")
+
+
+def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capacity, store_history) -> RawResult:
+    """``integrate`` on the general driver (``_general.py``): Newmark throughout, every law through the
+    material protocol."""
+    from . import _general as G
+    from ._material import N_STATE
+
+    ag = np.ascontiguousarray(np.atleast_2d(np.asarray(ground_acceleration, dtype=float)))
+    _check_general_input(system, ag, dt, nsteps)
+    tab = system.element_tables()
+    keep = ~(tab["ne_gap"] & (tab["ne_code"] == 0))  # gaps disabled (the no-pounding twin) are left out
+    for k in ("ne_dof", "ne_coef", "ne_size", "ne_code", "ne_par", "ne_gap"):
+        tab[k] = np.ascontiguousarray(tab[k][keep])
+    ne_gap = tab["ne_gap"]
+    n, nn, ng_all = system.n_dof, ne_gap.size, system.n_gap
+    hyst = np.flatnonzero(system.el_law) if system.el_law is not None else np.zeros(0, np.int64)
+    live = np.flatnonzero(system.gap_law != 0)  # the system's gap of each gap element
+    # each element's differential ground motion: gaps between different motion rows only
+    side = np.zeros((2, nn), np.int64)
+    for q in np.flatnonzero(ne_gap):
+        d, c = tab["ne_dof"][q], tab["ne_coef"][q]
+        side[0, q] = system.dof_motion[d[(d >= 0) & (c > 0)][0]]
+        side[1, q] = system.dof_motion[d[(d >= 0) & (c < 0)][0]]
+    ground = gap_ground_motion(side[0], side[1], ag, dt)
+    moving = ground.shape[2] > 1
+    cap = impact_capacity or max(256, nsteps // 4 + 16 * max(len(live), 1))
+    nt = nsteps + 1 if store_history else 1
+    while True:
+        out = dict(out_u=np.zeros((nt, n)), out_v=np.zeros((nt, n)), out_a=np.zeros((nt, n)),
+                   out_f=np.zeros((nt, nn)), out_e=np.zeros((nt, 6)), umax=np.zeros(n), fmax=np.zeros(nn),
+                   imp_gap=np.empty(cap, np.int64), imp_t0=np.empty(cap), imp_v0=np.empty(cap),
+                   imp_vout=np.empty(cap), imp_fmax=np.empty(cap), imp_dur=np.empty(cap), imp_zeta=np.empty(cap),
+                   imp_e=np.empty(cap), stats=np.zeros(K.N_STATS, np.int64))
+        status, n_imp, t_reached = G.general_kernel(
+            tab["ms_dof"], tab["ms_coef"], tab["ms_val"], tab["ms_a0"], tab["le_dof"], tab["le_coef"], tab["le_k"],
+            tab["le_c"], int(tab["p"]), tab["dof_load"], system.dof_motion.astype(np.int64), tab["dof_infl"],
+            tab["ne_dof"], tab["ne_coef"], tab["ne_size"], tab["ne_code"], tab["ne_par"], ne_gap,
+            np.zeros((nn, N_STATE)), ag, moving, ground, np.asarray(system.u0, float), np.asarray(system.v0, float),
+            float(dt), int(nsteps), float(nm.beta), float(nm.gamma), int(nm.contact_substeps), float(nm.rtol),
+            int(nm.max_iter), bool(store_history), **out)
+        if status == K.IMPACT_CAPACITY:
+            cap *= 4
+            continue
+        if status != K.OK:
+            raise IntegrationError(f"Newton-Raphson did not converge at t = {t_reached:.6g} s "
+                                   f"(try a smaller analysis.dt or more contact_substeps)")
+        break
+    gap_cols = np.flatnonzero(ne_gap)
+    force = np.zeros((nt, ng_all))
+    force[:, live] = out["out_f"][:, gap_cols]
+    peak_force = np.zeros(ng_all)
+    peak_force[live] = out["fmax"][gap_cols]
+    imp = {k[4:]: out[k][:n_imp].copy() for k in out if k.startswith("imp_")}
+    gap_of_element = np.full(nn, -1)
+    gap_of_element[gap_cols] = live
+    imp["gap"] = gap_of_element[imp["gap"]]
+    st = out["stats"]
+    stats = dict(steps=int(st[K.S_STEPS]), iterations=int(st[K.S_ITERATIONS]),
+                 rejected=int(st[K.S_REJECTED]), factorizations=int(st[K.S_FACTORIZATIONS]),
+                 max_iterations=int(st[K.S_MAX_ITER]), free_flight_steps=0, free_flight_blocks=0,
+                 waiting_steps=0, joins=0, dof_steps=int(st[K.S_DOF_STEPS]))
+    return RawResult(time=np.arange(nt) * dt, displacement=out["out_u"], velocity=out["out_v"],
+                     acceleration=out["out_a"], force=force, energy=out["out_e"],
+                     peak_displacement=out["umax"], peak_force=peak_force, impacts=imp, stats=stats,
+                     storey_elements=hyst, storey_force=out["out_f"][:, np.flatnonzero(~ne_gap)], driver="general")

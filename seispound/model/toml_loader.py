@@ -12,6 +12,7 @@ else:  # pragma: no cover
 
 from ..contact import get_law, restitution_from
 from ..errors import InputError, number_array
+from ..storey import StoreyLaw
 from ..structure import Building, Gap, NoDamping, RayleighDamping
 from .analysis import Analysis, Newmark
 from .spec import BuildingMotion, GroundMotionSpec, Model
@@ -23,7 +24,8 @@ _ANALYSIS = {"dt", "duration", "newmark", "contact_substeps", "rtol", "max_iter"
 _NEWMARK = {"beta", "gamma"}
 _GROUND = {"file", "format", "dt", "trace", "units", "scale", "calibration", "baseline"}
 _BUILDING = {"name", "floors", "floor_masses", "storey_stiffness", "storey_heights", "damping",
-             "initial_velocity", "position", "ground_motion"}
+             "initial_velocity", "position", "ground_motion", "storey_law"}
+_STOREY_LAW = {"kind", "yield_drift", "yield_force", "post_yield_ratio", "n", "beta", "gamma"}
 _VARIANT = {"delay", "lowpass", "lowpass_order"}
 _DAMPING = {"kind", "ratio", "modes"}
 _LAW_KEYS = {"law", "stiffness", "restitution", "tension", "damping_constant", "exponent"}
@@ -138,8 +140,10 @@ def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
             fields[fld] = val
         damping = _damping(b.get("damping", {"kind": "rayleigh"}), f"{key}.damping")
         motion = _building_motion(b["ground_motion"], f"{key}.ground_motion", base) if "ground_motion" in b else None
+        storey_law = _storey_law(b["storey_law"], f"{key}.storey_law") if "storey_law" in b else None
         buildings.append(Building(name=name, damping=damping, initial_velocity=b.get("initial_velocity", 0.0),
-                                  position=b.get("position"), ground_motion=motion, **fields))
+                                  position=b.get("position"), ground_motion=motion, storey_law=storey_law,
+                                  **fields))
     # Building validates itself in __post_init__ with keys building.<name>.<field>
 
     # -- gaps ----------------------------------------------------------------------------
@@ -287,6 +291,19 @@ def _make_law(c: dict, key: str):
     law = cls(**params)
     law.validate(key=key)
     return law
+
+
+def _storey_law(d, key):
+    """``[[building]] storey_law = { kind, yield_drift or yield_force, post_yield_ratio, n, beta, gamma }``."""
+    if not isinstance(d, dict):
+        raise InputError('must be a table {kind = "bilinear" | "bouc-wen", yield_drift or yield_force, '
+                         'post_yield_ratio, ...}', key=key)
+    _check_keys(d, _STOREY_LAW, key)
+    if "kind" not in d:
+        raise InputError('is required ("elastic", "bilinear" or "bouc-wen")', key=f"{key}.kind")
+    if not isinstance(d["kind"], str):
+        raise InputError(f"must be a string, got {d['kind']!r}", key=f"{key}.kind")
+    return StoreyLaw(**d)
 
 
 def _damping(d, key):

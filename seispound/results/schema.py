@@ -1,11 +1,11 @@
 """The result Dataset of one run: schema, units, provenance.
 
-Schema ``seispound-result`` version 2 (``ds.attrs["schema_version"]``)
+Schema ``seispound-result`` version 3 (``ds.attrs["schema_version"]``)
 ---------------------------------------------------------------------------
 Dimensions
     time (nt), building (nb), floor (max floors; absent floors are NaN), mode (= floor count),
     gap (one per gap element = pair of floors at a common level),
-    impact (one per impact, in order of onset), energy_component (5).
+    impact (one per impact, in order of onset), energy_component (6).
 Coordinates
     time [s]; building (names, left to right); floor (1-based); mode (1-based);
     floor_height(building, floor) [m]; gap (0-based);
@@ -39,7 +39,8 @@ Data variables (units in ``attrs["units"]``)
     ground_acceleration(time) [m/s^2], the row's record
     base_acceleration(time, building) [m/s^2], the ground motion under each building
     base_displacement(time, building) [m], its exact integral from rest (absolute position = displacement + this)
-    energy(time, energy_component) [J]: input, kinetic, strain, damping, contact
+    energy(time, energy_component) [J]: input, kinetic, strain (linear springs plus the recoverable
+        energy of hysteretic storeys), damping, contact, hysteretic (dissipated by yielding storeys)
 Attributes
     schema, schema_version, title, seispound_version, created_utc, model_file,
     model_text, record (JSON provenance; "none" for free vibration), contact_law,
@@ -58,9 +59,9 @@ import xarray as xr
 from .peaks import amplifications, dof_peaks, drift_history, storey_arrays
 
 SCHEMA = "seispound-result"
-SCHEMA_VERSION = 2
+SCHEMA_VERSION = 3
 
-ENERGY_COMPONENTS = ["input", "kinetic", "strain", "damping", "contact"]
+ENERGY_COMPONENTS = ["input", "kinetic", "strain", "damping", "contact", "hysteretic"]
 
 
 def _per_floor(values, system, nb, nfmax):

@@ -59,6 +59,22 @@ class SystemArrays:
         Influence coefficient of each DOF on its ground-motion row: the effective
         load is -mass x influence x a_g (1 for a translation along the motion,
         0 for a rotation); default 1.
+    el_law : (ne,) int, optional
+        Storey law of each element: 0 linear (the spring el_k), else a
+        hysteretic law code (``integrate._material``: BILINEAR, BOUC_WEN) with
+        its parameters in ``el_par`` (ne, N_PAR); el_k is then the initial
+        stiffness, from which the element's Rayleigh dashpot a1 k stays linear.
+    el_third, el_lever : (ne,) int and float, optional
+        A third DOF of an element and its coefficient: the deformation is
+        u_i - u_j + lever u_third (a storey above a rocking foundation:
+        lever = -(h_i - h_j), the third DOF the rotation); -1 / 0: none.
+    mass_blocks : list of (dofs, coefs, mass), optional
+        Masses acting on several DOFs (a rigid body seen from them): each adds
+        mass b b^T to the mass matrix, b = coefs at dofs, beyond the lumped ``mass``.
+    gap_dofs, gap_coefs : (ng, 4) int and float, optional
+        Gaps whose sides are interpolated between two DOFs (a floor against a
+        storey): penetration = sum coef u[dof] - size (+ ground terms); None:
+        u_i - u_j - size for every gap.
 
     The kernel takes every dashpot as a0 m per DOF and a1 k per element; the
     extra dashpots join them there (``kernel_arrays``).
@@ -85,6 +101,13 @@ class SystemArrays:
     el_c: np.ndarray | None = None
     dof_c: np.ndarray | None = None
     dof_influence: np.ndarray | None = None
+    el_law: np.ndarray | None = None
+    el_par: np.ndarray | None = None
+    el_third: np.ndarray | None = None
+    el_lever: np.ndarray | None = None
+    mass_blocks: list | None = None
+    gap_dofs: np.ndarray | None = None
+    gap_coefs: np.ndarray | None = None
 
     @property
     def n_dof(self) -> int:
@@ -134,6 +157,86 @@ class SystemArrays:
         a0, a1 = self.kernel_damping()
         return replace(self, dof_a0=a0, el_a1=a1, el_c=None, dof_c=None)
 
+    @property
+    def needs_general_driver(self) -> bool:
+        """True when the row has what only the general driver takes (``integrate._general``).
+
+        Storeys with history, elements on a third DOF, masses on several DOFs,
+        gaps with an interpolated side.
+        """
+        return bool((self.el_law is not None and np.any(self.el_law))
+                    or (self.el_third is not None and np.any(self.el_third >= 0))
+                    or self.mass_blocks or self.gap_dofs is not None)
+
+    def element_tables(self) -> dict:
+        """The row as coefficient-vector elements (``integrate._elements``), as the general driver takes it.
+
+        Returns a dict of arrays: masses ms_dof (nms, 3), ms_coef, ms_val [kg],
+        ms_a0 [1/s]; linear elements le_dof (nle, 3), le_coef, le_k [N/m],
+        le_c [N s/m] (springs of linear storeys with their Rayleigh and extra
+        dashpots, the dashpots of hysteretic storeys, dashpots to the ground);
+        elements with state ne_dof (nn, 4), ne_coef, ne_size [m], ne_code,
+        ne_par, ne_gap (hysteretic storeys first, then the gaps, in order);
+        p, the half bandwidth; dof_load (n,) [kg], M iota.
+        """
+        from ..integrate._elements import bandwidth
+
+        n, ne = self.n_dof, self.el_i.size
+        infl = np.ones(n) if self.dof_influence is None else np.asarray(self.dof_influence, float)
+        ms = [((i, -1, -1), (1.0, 0.0, 0.0), self.mass[i], self.dof_a0[i]) for i in range(n)]
+        for dofs, coefs, m in self.mass_blocks or []:
+            d = list(dofs) + [-1] * (3 - len(dofs))
+            c = list(coefs) + [0.0] * (3 - len(coefs))
+            ms.append((tuple(d), tuple(c), float(m), 0.0))
+        third = np.full(ne, -1) if self.el_third is None else np.asarray(self.el_third)
+        lever = np.zeros(ne) if self.el_lever is None else np.asarray(self.el_lever, float)
+        law = np.zeros(ne, np.int64) if self.el_law is None else np.asarray(self.el_law, np.int64)
+        el_c = np.zeros(ne) if self.el_c is None else np.asarray(self.el_c, float)
+        le, ne_rows = [], []
+        for e in range(ne):
+            dofs = (int(self.el_i[e]), int(self.el_j[e]), int(third[e]))
+            coefs = (1.0, -1.0 if dofs[1] >= 0 else 0.0, float(lever[e]) if dofs[2] >= 0 else 0.0)
+            c = self.el_a1[e] * self.el_k[e] + el_c[e]
+            if law[e] == 0:
+                le.append((dofs, coefs, self.el_k[e], c))
+            else:
+                if c:
+                    le.append((dofs, coefs, 0.0, c))
+                ne_rows.append((dofs + (-1,), coefs + (0.0,), 0.0, int(law[e]), self.el_par[e], False))
+        if self.dof_c is not None:
+            le += [((i, -1, -1), (1.0, 0.0, 0.0), 0.0, float(c)) for i, c in enumerate(self.dof_c) if c]
+        for g in range(self.n_gap):
+            if self.gap_dofs is None:
+                dofs, coefs = (int(self.gap_i[g]), int(self.gap_j[g]), -1, -1), (1.0, -1.0, 0.0, 0.0)
+            else:
+                dofs, coefs = tuple(int(x) for x in self.gap_dofs[g]), tuple(float(x) for x in self.gap_coefs[g])
+            ne_rows.append((dofs, coefs, float(self.gap_size[g]), int(self.gap_law[g]), self.gap_par[g], True))
+        npar = self.gap_par.shape[1]
+
+        out = dict(
+            ms_dof=np.array([r[0] for r in ms], np.int64).reshape(-1, 3),
+            ms_coef=np.array([r[1] for r in ms], float).reshape(-1, 3),
+            ms_val=np.array([r[2] for r in ms], float), ms_a0=np.array([r[3] for r in ms], float),
+            le_dof=np.array([r[0] for r in le], np.int64).reshape(-1, 3),
+            le_coef=np.array([r[1] for r in le], float).reshape(-1, 3),
+            le_k=np.array([r[2] for r in le], float), le_c=np.array([r[3] for r in le], float),
+            ne_dof=np.array([r[0] for r in ne_rows], np.int64).reshape(-1, 4),
+            ne_coef=np.array([r[1] for r in ne_rows], float).reshape(-1, 4),
+            ne_size=np.array([r[2] for r in ne_rows], float), ne_code=np.array([r[3] for r in ne_rows], np.int64),
+            ne_par=np.array([np.asarray(r[4], float) for r in ne_rows], float).reshape(-1, npar),
+            ne_gap=np.array([r[5] for r in ne_rows], np.bool_),
+        )
+        out["p"] = bandwidth(n, out["ms_dof"], out["le_dof"])
+        M_iota = np.zeros(n)
+        for d, c, m, _ in ms:
+            w = sum(ci * infl[di] for di, ci in zip(d, c) if di >= 0)
+            for di, ci in zip(d, c):
+                if di >= 0:
+                    M_iota[di] += m * ci * w
+        out["dof_load"] = M_iota
+        out["dof_infl"] = infl
+        return out
+
     def motion_rows(self, ag: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Ground-motion rows (m, nt) and each DOF's row, with the influence coefficients applied.
 
@@ -172,11 +275,17 @@ class SystemArrays:
 def assemble(buildings, gaps, default_law=None) -> SystemArrays:
     """Flatten ``buildings`` (left to right) and ``gaps`` into :class:`SystemArrays`."""
     mass, dof_b, dof_f, a0s, v0 = [], [], [], [], []
-    el_i, el_j, el_k, el_a1 = [], [], [], []
+    el_i, el_j, el_k, el_a1, el_law, el_par = [], [], [], [], [], []
     first = []
     for b_idx, b in enumerate(buildings):
         a0, a1 = b.rayleigh_coefficients()
         start = len(mass)
+        if b.storey_law is not None:
+            codes, par = b.storey_law.kernel_rows(b.storey_stiffness, S.N_PAR)
+        else:
+            codes, par = np.zeros(b.n_floors, np.int64), np.zeros((b.n_floors, S.N_PAR))
+        el_law.extend(codes)
+        el_par.extend(par)
         first.append(start)
         for f in range(b.n_floors):
             mass.append(b.floor_masses[f])
@@ -222,4 +331,6 @@ def assemble(buildings, gaps, default_law=None) -> SystemArrays:
         gap_law=np.array([l.law.code for l in links], dtype=np.int64),
         gap_par=gap_par,
         links=links,
+        el_law=np.asarray(el_law, np.int64) if any(el_law) else None,
+        el_par=np.asarray(el_par, float).reshape(-1, S.N_PAR) if any(el_law) else None,
     )

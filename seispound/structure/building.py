@@ -59,6 +59,11 @@ class Building:
     ground_motion : BuildingMotion, optional
         The ground motion under this building when it differs from the row's
         (:class:`seispound.model.BuildingMotion`); None: the row's record.
+    storey_law : StoreyLaw, optional
+        The storeys' force-drift law (:class:`seispound.storey.StoreyLaw`:
+        bilinear or Bouc-Wen, per building or per storey); None: elastic.
+        ``storey_stiffness`` is then the initial stiffness, and the Rayleigh
+        damping is computed from it.
     """
 
     name: str
@@ -69,6 +74,7 @@ class Building:
     initial_velocity: object = 0.0
     position: float | None = None
     ground_motion: object = None
+    storey_law: object = None
 
     def __post_init__(self):
         self.validate()
@@ -104,6 +110,12 @@ class Building:
             raise InputError(f"must be a finite number of metres, got {p!r}", key=f"{key}.position")
         if self.ground_motion is not None:
             self.ground_motion.validate(f"{key}.ground_motion")
+        if self.storey_law is not None:
+            from ..storey import StoreyLaw
+
+            if not isinstance(self.storey_law, StoreyLaw):
+                raise InputError("must be a StoreyLaw", key=f"{key}.storey_law")
+            self.storey_law.validate(n, f"{key}.storey_law")
         d = self.damping
         if isinstance(d, RayleighDamping):
             if not (isinstance(d.ratio, (int, float)) and 0.0 <= d.ratio < 1.0):

@@ -18,6 +18,9 @@ def test_outputs_equal_the_pinned_reference(name):
     got = run(CASES[name])
     for key, value in got.items():
         ref = REFERENCE[f"{name}/{key}"]
+        if key == "energy":  # the hysteretic column came later: zero on rows without history
+            assert value.shape[1] == ref.shape[1] + 1 and not np.any(value[:, -1]), key
+            value = value[:, :-1]
         assert value.shape == ref.shape, (key, value.shape, ref.shape)
         if key == "impacts.gap":
             np.testing.assert_array_equal(value, ref)

@@ -54,8 +54,8 @@ def test_dimensions(ds):
     assert ds.sizes["building"] == 2
     assert ds.sizes["floor"] == 8
     assert ds.sizes["gap"] == 4  # A and B share levels 3, 6, 9, 12 m
-    assert ds.sizes["energy_component"] == 5
-    assert list(ds.energy_component.values) == ["input", "kinetic", "strain", "damping", "contact"]
+    assert ds.sizes["energy_component"] == 6
+    assert list(ds.energy_component.values) == ["input", "kinetic", "strain", "damping", "contact", "hysteretic"]
     np.testing.assert_allclose(ds.time.values, np.arange(ds.sizes["time"]) * DT, rtol=0, atol=1e-12)
     np.testing.assert_array_equal(ds.gap_height.values, [3.0, 6.0, 9.0, 12.0])
     assert ds.displacement.dims == ("time", "building", "floor")
@@ -81,7 +81,7 @@ def test_every_data_variable_has_units_and_long_name(ds):
 
 def test_attributes(ds, model_path):
     assert ds.attrs["schema"] == "seispound-result"
-    assert ds.attrs["schema_version"] == 2
+    assert ds.attrs["schema_version"] == 3
     assert ds.attrs["seispound_version"] == seispound.__version__
     assert ds.attrs["model_text"] == model_path.read_text(encoding="utf-8")
     assert ds.attrs["title"] == "Two buildings of different height, El Centro 1940, Hd contact"

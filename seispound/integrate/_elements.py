@@ -1,0 +1,126 @@
+"""Elements as coefficient vectors: the linear part and the elements with state of the general driver.
+
+Every element acts through one deformation that is linear in the DOFs,
+
+    delta = sum_k coef[e, k] u[dof[e, k]]     (dof < 0: an unused slot),
+
+so b_e = (coef[e, k] at dof[e, k]) is the element's row of the compatibility
+matrix and its force f enters the equations as b_e f (Bathe 1996, Sec. 4.2:
+K = sum b_e k_e b_e^T).  A storey spring has b = e_i - e_(i-1); a storey
+above a rocking foundation b = e_i - e_(i-1) - (h_i - h_(i-1)) e_theta; a
+gap b = e_left - e_right, or against a storey, with the struck side
+interpolated between its two floors.  Masses are elements too (m b b^T):
+a lumped mass has one entry, a coupled block (a rigid body seen from several
+DOFs) more, so the mass matrix may have small coupled blocks.
+
+Slots: 3 for masses and linear elements, 4 for elements with state (a gap
+between two interpolated sides).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True, inline="always")
+def _dot(dof, coef, e, x):
+    """b_e . x."""
+    s = 0.0
+    for k in range(dof.shape[1]):
+        if dof[e, k] >= 0:
+            s += coef[e, k] * x[dof[e, k]]
+    return s
+
+
+@njit(cache=True, inline="always")
+def _scatter(dof, coef, e, f, y):
+    """y += b_e f."""
+    for k in range(dof.shape[1]):
+        if dof[e, k] >= 0:
+            y[dof[e, k]] += coef[e, k] * f
+
+
+@njit(cache=True)
+def _add_to_band(dof, coef, e, c, L):
+    """Lower band of A += c b_e b_e^T: L[i, i - j] = A(i, j), i >= j."""
+    for k1 in range(dof.shape[1]):
+        i = dof[e, k1]
+        if i < 0:
+            continue
+        for k2 in range(dof.shape[1]):
+            j = dof[e, k2]
+            if j < 0 or j > i:
+                continue
+            L[i, i - j] += c * coef[e, k1] * coef[e, k2]
+
+
+@njit(cache=True)
+def assemble_band(cm, cc, ck, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, L):
+    """L (n, p + 2): the lower band of A = cm M + cc C + ck K, with C = sum a0 m b b^T + sum c b b^T.
+
+    Newmark's K_hat is (1/(beta h^2), gamma/(beta h), 1); the mass matrix is (1, 0, 0).
+    """
+    for i in range(L.shape[0]):
+        for d in range(p + 2):
+            L[i, d] = 0.0
+    for e in range(ms_val.size):
+        _add_to_band(ms_dof, ms_coef, e, ms_val[e] * (cm + cc * ms_a0[e]), L)
+    for e in range(le_k.size):
+        _add_to_band(le_dof, le_coef, e, ck * le_k[e] + cc * le_c[e], L)
+
+
+@njit(cache=True)
+def linear_forces(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, u, v, f):
+    """f = K u + C v [N], shape (n,): the linear elements' springs and dashpots and the mass-proportional damping."""
+    for i in range(f.size):
+        f[i] = 0.0
+    for e in range(ms_val.size):
+        if ms_a0[e] != 0.0:
+            _scatter(ms_dof, ms_coef, e, ms_a0[e] * ms_val[e] * _dot(ms_dof, ms_coef, e, v), f)
+    for e in range(le_k.size):
+        _scatter(le_dof, le_coef, e, le_k[e] * _dot(le_dof, le_coef, e, u) + le_c[e] * _dot(le_dof, le_coef, e, v), f)
+
+
+@njit(cache=True)
+def mass_times(ms_dof, ms_coef, ms_val, x, y):
+    """y = M x, shape (n,)."""
+    for i in range(y.size):
+        y[i] = 0.0
+    for e in range(ms_val.size):
+        _scatter(ms_dof, ms_coef, e, ms_val[e] * _dot(ms_dof, ms_coef, e, x), y)
+
+
+@njit(cache=True)
+def kinetic_energy(ms_dof, ms_coef, ms_val, v):
+    """v^T M v / 2 [J]."""
+    s = 0.0
+    for e in range(ms_val.size):
+        w = _dot(ms_dof, ms_coef, e, v)
+        s += 0.5 * ms_val[e] * w * w
+    return s
+
+
+@njit(cache=True)
+def strain_energy(le_dof, le_coef, le_k, u):
+    """u^T K u / 2 of the linear elements [J]."""
+    s = 0.0
+    for e in range(le_k.size):
+        w = _dot(le_dof, le_coef, e, u)
+        s += 0.5 * le_k[e] * w * w
+    return s
+
+
+def bandwidth(n, *dof_tables) -> int:
+    """Half bandwidth of the matrices the element tables ``dof_tables`` (each (ne, slots)) assemble."""
+    p = 0
+    for dof in dof_tables:
+        d = np.where(dof >= 0, dof, -1)
+        if d.size == 0:
+            continue
+        hi = d.max(axis=1)
+        lo = np.where(d >= 0, d, n).min(axis=1)
+        used = hi >= 0
+        if used.any():
+            p = max(p, int((hi[used] - lo[used]).max()))
+    return p

@@ -1,0 +1,584 @@
+"""The general driver: Newmark-beta for any element with state, any coupling the band holds.
+
+Private: call :func:`seispound.integrate.integrate`, which chooses this driver
+when the model has what the fast one (``_kernel.py``) does not take (storeys
+with history, elements on three DOFs, masses on several, gaps against a
+storey), or when asked to (``path="general"``, the off switch of every
+optimisation the fast driver makes).
+
+Method (Newmark 1959; Chopra, Dynamics of Structures, Table 5.7.2; Bathe 1996,
+Sec. 9.5): the linear part -- masses, linear springs and dashpots, all as
+coefficient vectors (``_elements.py``) -- gives A = K + gamma/(beta h) C +
+M/(beta h^2), banded, factored once per step size (``_linear._factor_band``).
+The elements with state -- hysteretic storeys (always) and gaps (while closed)
+-- are condensed: with their end-of-step forces F frozen the step is
+Du = Du_lin - sum_q A^-1 b_q F_q, so the Newton-Raphson iteration runs on the
+m forces alone,
+
+    F_q = f_q(delta_lin,q - (G F)_q, rate_lin,q - gamma/(beta h) (G F)_q),
+    G = B^T A^-1 B,
+
+with Jacobian I + diag(k_t) G (k_t the law's consistent tangent d f/d delta +
+gamma/(beta h) d f/d rate).  That is Newton-Raphson on the full residual
+restricted to the only DOFs where it is nonzero, so it converges as the
+full iteration does, and the linear part is never refactored for a yield.
+Columns A^-1 b_q are cached per factor.
+
+Each law is called through the material protocol (``_material.py``): a
+trial from the committed state (a redone step is another trial), committed
+when the step is accepted; a gap's onset hook sets its impact's damping.
+
+Events (a gap touching or separating) are located as in the fast driver
+(``_events.py``: the first root of the cubic Hermite interpolant of the
+penetration); while a gap is closed the step is cut into substeps of
+1/n_sub of the impact duration, on the dt/2^k grid.  Yield is not an event:
+the return map is exact for a deformation linear in the step.
+
+Energy (relative frame; Uang & Bertero 1990): every force's work by the
+trapezoidal rule, which for average acceleration balances exactly: input =
+kinetic + strain (linear + recoverable) + damping + contact + hysteretic.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..contact.codes import NIVE
+from ._contact import ONSET_GRADING, _begin_impact, _end_impact
+from ._elements import _dot, _scatter, assemble_band, kinetic_energy, linear_forces, mass_times, strain_energy
+from ._events import LAND_TOL, _event_in_step
+from ._ground import GU0, GU1, GV0, GV1, _gap_ground_accept, _gap_ground_all, _ground_all
+from ._linear import _dense_solve, _factor_band, _solve_range
+from ._material import ST_E, ST_ZETA, material_commit, material_energy, material_trial
+from ._outputs import (
+    E_CONTACT,
+    E_DAMPING,
+    E_HYSTERETIC,
+    E_INPUT,
+    E_KINETIC,
+    E_STRAIN,
+    IMPACT_CAPACITY,
+    NEWTON_FAILED,
+    OK,
+    S_DOF_STEPS,
+    S_FACTORIZATIONS,
+    S_ITERATIONS,
+    S_MAX_ITER,
+    S_REJECTED,
+    S_STEPS,
+)
+
+N_LEVELS = 40  # factors kept for h = dt / 2^k, k < N_LEVELS
+
+
+@njit(cache=True)
+def _factor(cm, cc, lin, p, L):
+    """Assemble and factor A = cm M + cc C + K into L; False if A is not positive definite."""
+    ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin
+    assemble_band(cm, cc, 1.0, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, L)
+    return _factor_band(L, p, 0, L.shape[0])
+
+
+@njit(cache=True)
+def _load(dof_load, dof_motion, g, out):
+    """The effective earthquake load -M iota a_g [N] for the ground accelerations g (per motion row)."""
+    for i in range(out.size):
+        out[i] = -dof_load[i] * g[dof_motion[i]]
+
+
+@njit(cache=True)
+def _acceleration(LM, pm, lin, dof_load, dof_motion, g, u, v, ne_dof, ne_coef, F, flin, a):
+    """Relative acceleration from equilibrium M a = p - K u - C v - B F (LM: the mass matrix's factor).
+
+    Also leaves K u + C v in flin.
+    """
+    ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin
+    linear_forces(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, u, v, flin)
+    _load(dof_load, dof_motion, g, a)
+    for i in range(a.size):
+        a[i] -= flin[i]
+    for q in range(F.size):
+        if F[q] != 0.0:
+            _scatter(ne_dof, ne_coef, q, -F[q], a)
+    _solve_range(LM, pm, a, a, 0, a.size)
+
+
+@njit(cache=True)
+def _predictor(h, beta, gamma, Lf, p, lin, dof_load, dof_motion, g1, u, v, a, Vv, Av, R0, Du, work):
+    """The step with every element force of state frozen at zero: Du = A^-1 R0 (R0 kept).
+
+    R0 = p1 - M Av - C Vv - K u, with Newmark's u1 = u + Du, v1 = Vv + gamma/(beta h) Du,
+    a1 = Av + Du/(beta h^2).
+    """
+    ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin
+    for i in range(u.size):
+        Vv[i] = (1.0 - gamma / beta) * v[i] + (1.0 - 0.5 * gamma / beta) * h * a[i]
+        Av[i] = -v[i] / (beta * h) - (0.5 / beta - 1.0) * a[i]
+    linear_forces(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, u, Vv, R0)
+    mass_times(ms_dof, ms_coef, ms_val, Av, work)
+    _load(dof_load, dof_motion, g1, Du)
+    for i in range(u.size):
+        R0[i] = Du[i] - work[i] - R0[i]
+    _solve_range(Lf, p, R0, Du, 0, u.size)
+
+
+@njit(cache=True)
+def _columns(Lf, p, ne_dof, ne_coef, act, m, W, W_ok):
+    """W[q] = A^-1 b_q for the active elements that lack it under the current factor."""
+    for k in range(m):
+        q = act[k]
+        if W_ok[q]:
+            continue
+        for i in range(W.shape[1]):
+            W[q, i] = 0.0
+        _scatter(ne_dof, ne_coef, q, 1.0, W[q])
+        _solve_range(Lf, p, W[q], W[q], 0, W.shape[1])
+        W_ok[q] = True
+
+
+@njit(cache=True)
+def _newton(m, act, Gm, dl, rl, Fm, cc, ne_code, ne_par, st_c, st_t, scale, rtol, max_iter, resv, kt, Sm, ym):
+    """Newton-Raphson on the forces Fm[:m] of the active elements (module docstring).
+
+    Each element's law is evaluated by ``material_trial`` from its committed
+    state st_c into st_t.  Returns (converged, iterations beyond the first evaluation).
+    """
+    it = 0
+    while True:
+        rn = 0.0
+        sc = scale
+        for k in range(m):
+            q = act[k]
+            s1 = 0.0
+            for r in range(m):
+                s1 += Gm[k, r] * Fm[r]
+            f, dfd, dfv = material_trial(ne_code[q], ne_par[q], st_c[q], st_t[q], dl[k] - s1, rl[k] - cc * s1)
+            resv[k] = Fm[k] - f
+            kt[k] = dfd + cc * dfv
+            rn = max(rn, abs(resv[k]))
+            sc = max(sc, abs(f))
+        if rn <= rtol * sc:
+            return True, it
+        if it >= max_iter:
+            return False, it
+        it += 1
+        for k in range(m):
+            for r in range(m):
+                Sm[k, r] = kt[k] * Gm[k, r]
+            Sm[k, k] += 1.0
+            ym[k] = -resv[k]
+        _dense_solve(m, Sm, ym)
+        for k in range(m):
+            Fm[k] += ym[k]
+
+
+@njit(cache=True)
+def _deformation(ne_dof, ne_coef, ne_size, q, u, du, v, dv, gk, row):
+    """Deformation and rate of element q at u + du, v + dv; gk[row], gk[row + 1]: its ground terms."""
+    return (_dot(ne_dof, ne_coef, q, u) + _dot(ne_dof, ne_coef, q, du) - ne_size[q] + gk[row, q],
+            _dot(ne_dof, ne_coef, q, v) + _dot(ne_dof, ne_coef, q, dv) + gk[row + 1, q])
+
+
+@njit(cache=True)
+def _screen(ne_gap, active, d0, r0, d1, r1, h, landed, target, land_too):
+    """The first event of any gap in a trial step: (theta, gap, n_land) (theta 2: none).
+
+    An open gap may touch, a closed one separate, even within the step
+    (``_events._event_in_step``).  When the step ``landed`` on the event of
+    ``target``, the gaps at their own crossing within the landing tolerance
+    are listed in land_too: they switch together.
+    """
+    theta = 2.0
+    g_ev = -1
+    n_land = 0
+    for q in range(ne_gap.size):
+        if not ne_gap[q] or (landed and q == target):
+            continue
+        tol = LAND_TOL * max(abs(r0[q]), abs(r1[q])) * h + 1e-15
+        th = _event_in_step(d0[q], r0[q], d1[q], r1[q], h, not active[q], tol)
+        if landed and ((d1[q] >= -tol and r1[q] > 0.0 and not active[q])
+                       or (d1[q] <= tol and r1[q] < 0.0 and active[q])):
+            land_too[n_land] = q
+            n_land += 1
+        if th < theta:
+            theta = th
+            g_ev = q
+    return theta, g_ev, n_land
+
+
+@njit(cache=True)
+def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, dof_load, dof_motion, dof_infl,
+                   ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, state0, ag, moving, ne_ground,
+                   u_init, v_init, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store,
+                   out_u, out_v, out_a, out_f, out_e, umax, fmax,
+                   imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e, stats):
+    """Integrate; fill the outputs; return (status, n_impacts, t_reached).
+
+    Shapes: n DOFs, nn elements with state, nm motion rows, nt = nsteps + 1.
+    ms_* : masses (nms, 3) / (nms,) [kg], ms_a0 [1/s] their proportional damping;
+    le_* : linear elements (nle, 3) / (nle,), le_k [N/m], le_c [N s/m];
+    p : half bandwidth of M, C and K; dof_load (n,) [kg]: M iota, the load per
+    unit ground acceleration of row dof_motion (n,); dof_infl (n,): iota;
+    ne_* : elements with state (nn, 4) / (nn,) / (nn, N_PAR), ne_gap (nn,)
+    True for a gap (events, active only while closed), False for a storey
+    (always active); state0 (nn, N_STATE) their initial committed state;
+    ag (nm, nt) [m/s^2]; ne_ground (3, nn, nt): each element's differential
+    ground acceleration, velocity and displacement (used when ``moving``);
+    outputs as ``_kernel.integrate_kernel`` (out_f (nt, nn): every element's
+    force; out_e (nt, 6) with the hysteretic energy).
+    """
+    n = u_init.size
+    nn = ne_size.size
+    nm = ag.shape[0]
+    cap = imp_gap.size
+    lin = (ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c)
+    nw = max(nn, 1)
+    # -- work arrays -----------------------------------------------------------
+    L_lev = np.empty((N_LEVELS, n, p + 2))
+    have_lev = np.zeros(N_LEVELS, np.bool_)
+    h_lev = np.empty(N_LEVELS)
+    for k in range(N_LEVELS):
+        h_lev[k] = dt / 2.0**k
+    L_h = np.empty((n, p + 2))
+    LM = np.empty((n, p + 2))  # the mass matrix's factor (equilibrium accelerations)
+    u = u_init.copy()
+    v = v_init.copy()
+    a = np.empty(n)
+    Vv = np.empty(n)
+    Av = np.empty(n)
+    R0 = np.empty(n)
+    Du = np.empty(n)
+    work = np.empty(n)
+    flin = np.empty(n)  # K u + C v in equilibrium with (u, v)
+    flin1 = np.empty(n)
+    W_lev = np.zeros((nw, n))  # columns A^-1 b_q of the level factor lv_W and of the scratch factor
+    W_scr = np.zeros((nw, n))
+    Wok_lev = np.zeros(nw, np.bool_)
+    Wok_scr = np.zeros(nw, np.bool_)
+    lv_W = -1
+    h_W = -1.0
+    h_scr = -1.0
+    act = np.empty(nw, np.int64)  # active elements: every storey, the closed gaps
+    Gm = np.empty((nw, nw))
+    Sm = np.empty((nw, nw))
+    ym = np.empty(nw)
+    Fm = np.empty(nw)
+    dl = np.empty(nw)
+    rl = np.empty(nw)
+    resv = np.empty(nw)
+    kt = np.empty(nw)
+    st_c = state0.copy()  # committed and trial states of the elements
+    st_t = state0.copy()
+    F = np.zeros(nn)  # element forces in equilibrium with (u, v)
+    F1 = np.zeros(nn)
+    F_old = np.zeros(nn)
+    h_old = np.ones(nn)
+    active = np.zeros(nn, np.bool_)
+    zeta = np.zeros(nn)
+    hsub = np.zeros(nn)
+    age = np.zeros(nn, np.int64)
+    cur_imp = -np.ones(nn, np.int64)
+    d0 = np.empty(nn)
+    r0 = np.empty(nn)
+    d1 = np.empty(nn)
+    r1 = np.empty(nn)
+    toggles = np.empty(nw, np.int64)
+    land_too = np.empty(nw, np.int64)
+    gk = np.zeros((4, nn))
+    g_t = np.empty(nm)
+    g_1 = np.empty(nm)
+    for s in range(stats.size):
+        stats[s] = 0
+    n_imp = 0
+    t = 0.0
+    assemble_band(1.0, 0.0, 0.0, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, LM)
+    if not _factor_band(LM, p, 0, n):
+        return NEWTON_FAILED, 0, 0.0  # a DOF without mass (the front end refuses it first)
+
+    # -- initial state: storeys active, gaps closing at t = 0 start an impact ------
+    if moving:
+        _gap_ground_all(ne_ground, 0.0, dt, gk, GU0)
+    m_act = 0
+    for q in range(nn):
+        d0[q], r0[q] = _deformation(ne_dof, ne_coef, ne_size, q, u, u * 0.0, v, v * 0.0, gk, GU0)
+        if not ne_gap[q]:
+            active[q] = True
+        elif d0[q] > 0.0 or (d0[q] == 0.0 and r0[q] > 0.0):
+            if n_imp >= cap:
+                return IMPACT_CAPACITY, n_imp, t
+            _begin_impact(q, t, d0[q], r0[q], ne_code[q], ne_par[q], n_sub, active, zeta, hsub, age, cur_imp,
+                          n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_e, imp_fmax, imp_dur, imp_vout)
+            st_c[q, ST_ZETA] = zeta[q]
+            st_c[q, ST_E] = imp_e[n_imp]
+            n_imp += 1
+        if active[q]:
+            act[m_act] = q
+            m_act += 1
+            F[q] = material_trial(ne_code[q], ne_par[q], st_c[q], st_t[q], d0[q], r0[q])[0]
+            material_commit(st_c[q], st_t[q])
+    _ground_all(ag, t, dt, g_t)
+    _acceleration(LM, p, lin, dof_load, dof_motion, g_t, u, v, ne_dof, ne_coef, F, flin, a)
+    es_lin0 = strain_energy(le_dof, le_coef, le_k, u)
+    rec0 = 0.0
+    for q in range(nn):
+        rec0 += material_energy(ne_code[q], ne_par[q], st_c[q], d0[q])
+    e_in = kinetic_energy(ms_dof, ms_coef, ms_val, v) + es_lin0 + rec0  # present at t = 0: input
+    w_lin = 0.0  # work of the linear elements and dampers
+    w_hys = 0.0  # work done on the hysteretic elements
+    e_cont = 0.0
+    _output(0, store, u, v, a, g_t, dof_motion, dof_infl, F, lin, ne_code, ne_par, ne_gap, st_c, d0, es_lin0, rec0,
+            e_in, w_lin, w_hys, e_cont, out_u, out_v, out_a, out_f, out_e, umax, fmax, True)
+
+    hmin = 1e-9 * dt
+    step = 0
+    while step < nsteps:
+        t_end = (step + 1) * dt
+        while t_end - t > 1e-9 * dt:
+            # ---- step size: the rest of the analysis step, or the contact substep grid
+            remaining = t_end - t
+            h = remaining
+            lev = 0
+            for k in range(m_act):
+                q = act[k]
+                if not ne_gap[q]:
+                    continue
+                lg = 0
+                while lg < N_LEVELS - 1 and h_lev[lg] > hsub[q]:
+                    lg += 1
+                if ne_code[q] == NIVE and age[q] < ONSET_GRADING:
+                    lg = min(lg + ONSET_GRADING - age[q], N_LEVELS - 1)
+                lev = max(lev, lg)
+            if lev > 0:
+                hl = h_lev[lev]
+                t_start = t_end - dt
+                nxt = t_start + (np.floor((t - t_start) / hl + 1e-6) + 1.0) * hl
+                if nxt - t < 1e-3 * hl:
+                    nxt += hl
+                h = min(nxt - t, remaining)
+                if remaining - h < 1e-3 * hl:
+                    h = remaining
+            target = -1
+            landed = False
+            located = False
+            n_tog = 0
+            n_land = 0
+            cm = 0.0
+            cc = 0.0
+            for attempt in range(200):
+                # ---- factor A(h): cached per dt/2^k level, scratch otherwise
+                lv = -1
+                if abs(h - h_lev[lev]) <= 1e-9 * h:
+                    lv = lev
+                elif abs(h - dt) <= 1e-9 * dt:
+                    lv = 0
+                cm = 1.0 / (beta * h * h)
+                cc = gamma / (beta * h)
+                if lv >= 0:
+                    h = h_lev[lv]
+                    cm = 1.0 / (beta * h * h)
+                    cc = gamma / (beta * h)
+                    if not have_lev[lv]:
+                        if not _factor(cm, cc, lin, p, L_lev[lv]):
+                            return NEWTON_FAILED, n_imp, t
+                        have_lev[lv] = True
+                        stats[S_FACTORIZATIONS] += 1
+                    Lf = L_lev[lv]
+                    if lv != lv_W:
+                        Wok_lev[:] = False
+                        lv_W = lv
+                    W = W_lev
+                    W_ok = Wok_lev
+                else:
+                    if h != h_scr:
+                        if not _factor(cm, cc, lin, p, L_h):
+                            return NEWTON_FAILED, n_imp, t
+                        h_scr = h
+                        stats[S_FACTORIZATIONS] += 1
+                    Lf = L_h
+                    if h != h_W:
+                        Wok_scr[:] = False
+                        h_W = h
+                    W = W_scr
+                    W_ok = Wok_scr
+                _ground_all(ag, t + h, dt, g_1)
+                if moving:
+                    _gap_ground_all(ne_ground, t + h, dt, gk, GU1)
+                # ---- PREDICTOR: every element force of state frozen at zero
+                _predictor(h, beta, gamma, Lf, p, lin, dof_load, dof_motion, g_1, u, v, a, Vv, Av, R0, Du, work)
+                stats[S_ITERATIONS] += 1
+                stats[S_DOF_STEPS] += n
+                # ---- ITERATIONS: Newton on the active elements' forces, condensed through A^-1
+                converged = True
+                if m_act > 0:
+                    _columns(Lf, p, ne_dof, ne_coef, act, m_act, W, W_ok)
+                    scale = 0.0
+                    for i in range(n):
+                        scale = max(scale, abs(R0[i]))
+                    for k in range(m_act):
+                        q = act[k]
+                        dl[k], rl[k] = _deformation(ne_dof, ne_coef, ne_size, q, u, Du, Vv, cc * Du, gk, GU1)
+                        for r in range(m_act):
+                            Gm[k, r] = _dot(ne_dof, ne_coef, q, W[act[r]])
+                        Fm[k] = F[q]
+                        if ne_gap[q] and age[q] >= 1:  # along the impact's last substep
+                            Fm[k] += (F[q] - F_old[q]) * (h / h_old[q])
+                    converged, it = _newton(m_act, act, Gm, dl, rl, Fm, cc, ne_code, ne_par, st_c, st_t, scale,
+                                            rtol, max_iter, resv, kt, Sm, ym)
+                    stats[S_ITERATIONS] += it
+                    stats[S_MAX_ITER] = max(stats[S_MAX_ITER], it)
+                    for k in range(m_act):
+                        q = act[k]
+                        F1[q] = Fm[k]
+                        for i in range(n):
+                            Du[i] -= Fm[k] * W[q, i]
+                if not converged:
+                    stats[S_REJECTED] += 1
+                    h *= 0.25
+                    target = -1
+                    if h < hmin:
+                        return NEWTON_FAILED, n_imp, t
+                    continue
+                # ---- EVENT SCREEN: does a gap touch or separate inside the step?
+                for q in range(nn):
+                    if ne_gap[q]:
+                        d1[q], r1[q] = _deformation(ne_dof, ne_coef, ne_size, q, u, Du, Vv, cc * Du, gk, GU1)
+                landed = False
+                if target >= 0:
+                    landed = abs(d1[target]) <= LAND_TOL * max(abs(r1[target]), abs(r0[target])) * h + 1e-15
+                theta, g_ev, n_land = _screen(ne_gap, active, d0, r0, d1, r1, h, landed, target, land_too)
+                if g_ev < 0:
+                    located = True
+                    break
+                stats[S_REJECTED] += 1
+                if theta * h < hmin:  # events at the current time: switch them in place, then step
+                    n_tog = 0
+                    for q in range(nn):
+                        if not ne_gap[q] or (landed and q == target):
+                            continue
+                        tol = LAND_TOL * max(abs(r0[q]), abs(r1[q])) * h + 1e-15
+                        if _event_in_step(d0[q], r0[q], d1[q], r1[q], h, not active[q], tol) * h < hmin:
+                            toggles[n_tog] = q
+                            n_tog += 1
+                    break
+                h = theta * h
+                target = g_ev
+            if not located and n_tog == 0:
+                return NEWTON_FAILED, n_imp, t
+            if located:
+                # ---- ACCEPT / COMMIT
+                e_in, w_lin, w_hys, e_cont = _accept(h, cm, cc, lin, dof_load, dof_motion, ne_dof, ne_coef, ne_gap,
+                                                     act, m_act, g_t, g_1, Du, Vv, Av, u, v, a, flin, flin1, F,
+                                                     F1, F_old, h_old, age, st_c, st_t, fmax, imp_fmax, cur_imp,
+                                                     umax, e_in, w_lin, w_hys, e_cont)
+                stats[S_STEPS] += 1
+                for q in range(nn):
+                    if ne_gap[q]:
+                        d0[q] = d1[q]
+                        r0[q] = r1[q]
+                t = t + h
+                if abs(t - t_end) <= 1e-9 * dt:
+                    t = t_end
+                for r in range(nm):
+                    g_t[r] = g_1[r]
+                if moving:
+                    _gap_ground_accept(gk)
+                if landed:
+                    toggles[0] = target
+                    n_tog = 1
+                    for k in range(n_land):
+                        toggles[n_tog] = land_too[k]
+                        n_tog += 1
+            # ---- switch gaps: onset (the law's onset hook) or end of an impact
+            for k in range(n_tog):
+                q = toggles[k]
+                if not active[q]:
+                    if n_imp >= cap:
+                        return IMPACT_CAPACITY, n_imp, t
+                    F[q] = _begin_impact(q, t, d0[q], r0[q], ne_code[q], ne_par[q], n_sub, active, zeta, hsub,
+                                         age, cur_imp, n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_e, imp_fmax,
+                                         imp_dur, imp_vout)
+                    st_c[q, ST_ZETA] = zeta[q]
+                    st_c[q, ST_E] = imp_e[n_imp]
+                    fmax[q] = max(fmax[q], F[q])
+                    n_imp += 1
+                    act[m_act] = q
+                    m_act += 1
+                else:
+                    m_act = _end_impact(q, t, r0[q], m_act, act, active, cur_imp, imp_t0, imp_dur, imp_vout)
+                    F[q] = 0.0
+            if n_tog > 0:
+                # a contact force may jump at an event (LVe's dashpot): equilibrium at fixed (u, v)
+                _acceleration(LM, p, lin, dof_load, dof_motion, g_t, u, v, ne_dof, ne_coef, F, flin, a)
+        step += 1
+        if store:
+            for q in range(nn):
+                if not ne_gap[q]:
+                    d0[q] = _dot(ne_dof, ne_coef, q, u) - ne_size[q]
+            _output(step, store, u, v, a, g_t, dof_motion, dof_infl, F, lin, ne_code, ne_par, ne_gap, st_c, d0,
+                    es_lin0, rec0, e_in, w_lin, w_hys, e_cont, out_u, out_v, out_a, out_f, out_e, umax, fmax, False)
+    return OK, n_imp, t
+
+
+@njit(cache=True)
+def _accept(h, cm, cc, lin, dof_load, dof_motion, ne_dof, ne_coef, ne_gap, act, m_act, g0, g1, Du, Vv, Av, u, v, a,
+            flin, flin1, F, F1, F_old, h_old, age, st_c, st_t, fmax, imp_fmax, cur_imp, umax, e_in, w_lin, w_hys,
+            e_cont):
+    """Accept the trial step: state, committed laws, peaks and every force's trapezoidal work."""
+    ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin
+    for i in range(u.size):
+        e_in -= 0.5 * dof_load[i] * (g0[dof_motion[i]] + g1[dof_motion[i]]) * Du[i]
+        u[i] += Du[i]
+        v[i] = Vv[i] + cc * Du[i]
+        a[i] = Av[i] + cm * Du[i]
+        umax[i] = max(umax[i], abs(u[i]))
+    linear_forces(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, u, v, flin1)
+    for i in range(u.size):
+        w_lin += 0.5 * (flin[i] + flin1[i]) * Du[i]
+        flin[i] = flin1[i]
+    for k in range(m_act):
+        q = act[k]
+        work = 0.5 * (F[q] + F1[q]) * _dot(ne_dof, ne_coef, q, Du)
+        if ne_gap[q]:
+            e_cont += work
+            age[q] += 1
+            F_old[q] = F[q]
+            h_old[q] = h
+            fmax[q] = max(fmax[q], F1[q])
+            imp_fmax[cur_imp[q]] = max(imp_fmax[cur_imp[q]], F1[q])
+        else:
+            w_hys += work
+            fmax[q] = max(fmax[q], abs(F1[q]))
+        F[q] = F1[q]
+        material_commit(st_c[q], st_t[q])
+    return e_in, w_lin, w_hys, e_cont
+
+
+@njit(cache=True)
+def _output(k, store, u, v, a, g, dof_motion, dof_infl, F, lin, ne_code, ne_par, ne_gap, st_c, delta, es_lin0, rec0,
+            e_in, w_lin, w_hys, e_cont, out_u, out_v, out_a, out_f, out_e, umax, fmax, first):
+    """Write output row k (``delta`` holds the storeys' deformations); the first call also starts the peaks."""
+    ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin
+    if first:
+        for i in range(u.size):
+            umax[i] = abs(u[i])
+        for q in range(F.size):
+            fmax[q] = max(F[q], 0.0) if ne_gap[q] else abs(F[q])
+    if not store and not first:
+        return
+    for i in range(u.size):
+        out_u[k, i] = u[i]
+        out_v[k, i] = v[i]
+        out_a[k, i] = a[i] + dof_infl[i] * g[dof_motion[i]]
+    rec = 0.0
+    for q in range(F.size):
+        out_f[k, q] = F[q]
+        if not ne_gap[q]:
+            rec += material_energy(ne_code[q], ne_par[q], st_c[q], delta[q])
+    es_lin = strain_energy(le_dof, le_coef, le_k, u)
+    out_e[k, E_INPUT] = e_in
+    out_e[k, E_KINETIC] = kinetic_energy(ms_dof, ms_coef, ms_val, v)
+    out_e[k, E_STRAIN] = es_lin + rec
+    out_e[k, E_DAMPING] = w_lin - (es_lin - es_lin0)
+    out_e[k, E_CONTACT] = e_cont
+    out_e[k, E_HYSTERETIC] = w_hys - (rec - rec0)

@@ -1,0 +1,18 @@
+"""Integer codes and parameter columns of the storey laws with history, shared by the model and the kernel.
+
+Plain constants (no numba), so that reading a model does not compile anything.
+Codes start at 20, above every contact-law code (``contact.codes``): both
+families go through one material protocol in the kernel (``integrate._material``).
+"""
+
+LINEAR = 0  # an elastic storey (a linear spring of the linear part)
+BILINEAR = 20  # kinematic hardening
+BOUC_WEN = 21  # smooth hysteresis (Bouc 1967, Wen 1976)
+
+# parameter columns of BILINEAR: initial stiffness k [N/m], yield force fy [N], post-yield ratio alpha [-]
+B_K, B_FY, B_ALPHA = 0, 1, 2
+# parameter columns of BOUC_WEN: k [N/m], yield deformation dy [m], alpha [-], exponent n, beta, gamma [-]
+BW_K, BW_DY, BW_ALPHA, BW_N, BW_BETA, BW_GAMMA = 0, 1, 2, 3, 4, 5
+N_STOREY_PAR = 6
+
+NAMES = {"elastic": LINEAR, "bilinear": BILINEAR, "bouc-wen": BOUC_WEN}

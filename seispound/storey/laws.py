@@ -1,0 +1,120 @@
+"""Hysteretic storey laws: bilinear with kinematic hardening, and Bouc-Wen."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError, number_array
+from . import codes as C
+
+__all__ = ["StoreyLaw", "KINDS"]
+
+KINDS = tuple(C.NAMES)
+
+
+@dataclass
+class StoreyLaw:
+    """The lateral force-drift law of a building's storeys.
+
+    Every numeric field is one value for all storeys or a list of one per
+    storey, from the ground up.
+
+    Parameters
+    ----------
+    kind : {"elastic", "bilinear", "bouc-wen"}
+        "bilinear": kinematic hardening, F = alpha k d + (1 - alpha) q,
+        |q| <= fy (Simo & Hughes 1998, Sec. 1.4); "bouc-wen":
+        F = alpha k d + (1 - alpha) k z with dz/dt = d'(t) (1 - |z/dy|^n
+        (beta sgn(d' z) + gamma)) (Wen 1976, J. Eng. Mech. Div. 102(2),
+        249-263, with A = 1), k the storey's ``storey_stiffness``.
+    yield_drift : float or list, [m]
+        dy; or give ``yield_force`` fy [N] (dy = fy / k).  Exactly one of the two.
+    yield_force : float or list, [N]
+    post_yield_ratio : float or list, [-]
+        alpha, the post-yield stiffness over k, in [0, 1).
+    n : float
+        Bouc-Wen exponent (>= 1; large n approaches the bilinear law).
+    beta, gamma : float
+        Bouc-Wen shape parameters (beta + gamma > 0; with beta + gamma = 1,
+        z is bounded by dy and the hysteretic force by (1 - alpha) k dy).
+    """
+
+    kind: str = "elastic"
+    yield_drift: object = None
+    yield_force: object = None
+    post_yield_ratio: object = 0.0
+    n: float | None = None
+    beta: float = 0.5
+    gamma: float = 0.5
+
+    @property
+    def code(self) -> int:
+        return C.NAMES[self.kind]
+
+    @property
+    def hysteretic(self) -> bool:
+        return self.kind != "elastic"
+
+    def validate(self, n_storeys: int, key: str = "storey_law") -> None:
+        """Check every field against a building of ``n_storeys``; InputError names ``<key>.<field>``."""
+        if self.kind not in C.NAMES:
+            raise InputError(f"kind must be one of {', '.join(repr(k) for k in KINDS)}, got {self.kind!r}",
+                             key=f"{key}.kind")
+        if not self.hysteretic:
+            return
+        given = [f for f in ("yield_drift", "yield_force") if getattr(self, f) is not None]
+        if len(given) != 1:
+            raise InputError("give exactly one of yield_drift [m] and yield_force [N]"
+                             + (f" (got both)" if len(given) == 2 else ""), key=f"{key}.yield_drift")
+        self._per_storey(given[0], n_storeys, key, positive=True)
+        alpha = self._per_storey("post_yield_ratio", n_storeys, key)
+        if np.any((alpha < 0.0) | (alpha >= 1.0)):
+            raise InputError(f"must lie in [0, 1), got {float(alpha[(alpha < 0) | (alpha >= 1)][0]):g}",
+                             key=f"{key}.post_yield_ratio")
+        if self.kind == "bouc-wen":
+            if self.n is None:
+                raise InputError("is required for a Bouc-Wen storey (the exponent of |z/dy|, >= 1)", key=f"{key}.n")
+            for f in ("n", "beta", "gamma"):
+                v = getattr(self, f)
+                if not (isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)):
+                    raise InputError(f"must be a finite number, got {v!r}", key=f"{key}.{f}")
+            if not 1.0 <= self.n <= 100.0:
+                raise InputError(f"must lie in [1, 100], got {self.n:g}", key=f"{key}.n")
+            if not self.beta + self.gamma > 0.0:
+                raise InputError(f"beta + gamma must be > 0 (a bounded z), got {self.beta + self.gamma:g}",
+                                 key=f"{key}.gamma")
+
+    def _per_storey(self, field, n_storeys, key, positive=False) -> np.ndarray:
+        arr = number_array(getattr(self, field), f"{key}.{field}")
+        if arr.size not in (1, n_storeys):
+            raise InputError(f"give one value or {n_storeys} (one per storey), got {arr.size}", key=f"{key}.{field}")
+        if not np.all(np.isfinite(arr)) or (positive and np.any(arr <= 0.0)):
+            raise InputError("every entry must be a finite number" + (" > 0" if positive else ""),
+                             key=f"{key}.{field}")
+        return np.broadcast_to(arr, (n_storeys,)).astype(float)
+
+    def yield_drifts(self, stiffness) -> np.ndarray:
+        """dy [m] of each storey, shape (N,), from yield_drift or yield_force / k."""
+        k = np.asarray(stiffness, float)
+        if self.yield_drift is not None:
+            return self._per_storey("yield_drift", k.size, "storey_law")
+        return self._per_storey("yield_force", k.size, "storey_law") / k
+
+    def kernel_rows(self, stiffness, n_par: int) -> tuple[np.ndarray, np.ndarray]:
+        """(codes (N,), parameters (N, n_par)) of the storeys (``storey.codes`` columns); code 0: elastic."""
+        k = np.asarray(stiffness, float)
+        codes = np.full(k.size, self.code, np.int64)
+        par = np.zeros((k.size, n_par))
+        if not self.hysteretic:
+            return codes, par
+        dy = self.yield_drifts(k)
+        alpha = self._per_storey("post_yield_ratio", k.size, "storey_law")
+        if self.kind == "bilinear":
+            par[:, C.B_K], par[:, C.B_FY], par[:, C.B_ALPHA] = k, k * dy, alpha
+        else:
+            par[:, C.BW_K], par[:, C.BW_DY], par[:, C.BW_ALPHA] = k, dy, alpha
+            par[:, C.BW_N], par[:, C.BW_BETA], par[:, C.BW_GAMMA] = self.n, self.beta, self.gamma
+        return codes, par

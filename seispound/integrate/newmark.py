@@ -41,6 +41,7 @@ class RawResult:
     # hysteretic storeys (general driver): their element indices (nh,) and forces (nt, nh) [N]
     storey_elements: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     storey_force: np.ndarray | None = None
+    storey_dofs: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))  # the DOF above each
     driver: str = "fast"
 
 
@@ -368,4 +369,5 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     return RawResult(time=np.arange(nt) * dt, displacement=out["out_u"], velocity=out["out_v"],
                      acceleration=out["out_a"], force=force, energy=out["out_e"],
                      peak_displacement=out["umax"], peak_force=peak_force, impacts=imp, stats=stats,
-                     storey_elements=hyst, storey_force=out["out_f"][:, np.flatnonzero(~ne_gap)], driver="general")
+                     storey_elements=hyst, storey_force=out["out_f"][:, np.flatnonzero(~ne_gap)],
+                     storey_dofs=system.el_i[hyst].astype(np.int64), driver="general")

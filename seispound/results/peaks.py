@@ -35,7 +35,8 @@ PEAKS = [
     ("acceleration", "m/s^2", "peak |absolute floor acceleration| at the analysis instants"),
     ("drift", "m", "peak |inter-storey drift| of the storey below the floor"),
     ("drift_ratio", "1", "peak |inter-storey drift| / storey height of the storey below the floor"),
-    ("storey_shear", "N", "peak |storey shear| (storey spring force k x drift) of the storey below the floor"),
+    ("storey_shear", "N", "peak |storey shear| (storey spring force: k x drift, or a yielding storey's force) of the "
+                          "storey below the floor"),
 ]
 
 
@@ -88,13 +89,26 @@ def dof_peaks(raw, below, height, stiff, drift=None) -> dict:
     if drift is None:
         drift = drift_history(raw.displacement, below)
     peak_drift = _peak_abs(drift)
+    shear = peak_drift * stiff  # an elastic storey's k is constant in time: max |k d| = k max |d|
+    if raw.storey_force is not None and raw.storey_dofs.size:  # yielding storeys: their own force
+        shear[raw.storey_dofs] = _peak_abs(raw.storey_force)
     return {
         "displacement": np.asarray(raw.peak_displacement, float).copy(),
         "acceleration": _peak_abs(raw.acceleration),
         "drift": peak_drift,
         "drift_ratio": peak_drift / height,
-        "storey_shear": peak_drift * stiff,  # k is constant in time: max |k d| = k max |d|
+        "storey_shear": shear,
+        "residual_drift": drift[-1].copy() if drift.shape[0] else np.zeros(drift.shape[1]),
     }
+
+
+def storey_force_history(raw, drift, stiff) -> np.ndarray:
+    """Storey spring force [N] of the storey below each DOF, shape (nt, n): k x drift, or a yielding
+    storey's hysteretic force (dashpot force excluded)."""
+    force = drift * stiff
+    if raw.storey_force is not None and raw.storey_dofs.size:
+        force[:, raw.storey_dofs] = raw.storey_force
+    return force
 
 
 def amplifications(peaks: dict, peaks_twin: dict | None) -> dict:

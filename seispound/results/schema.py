@@ -16,6 +16,9 @@ Data variables (units in ``attrs["units"]``)
     velocity(time, building, floor) [m/s], relative to the ground under that building
     acceleration(time, building, floor) [m/s^2], absolute (ground + relative)
     drift(time, building, floor) [m], u_floor - u_floor_below (ground for floor 1)
+    storey_force(time, building, floor) [N], the spring force of the storey below the floor: k x drift,
+        or a yielding storey's force (bilinear, Bouc-Wen); dashpot force excluded
+    residual_drift(building, floor) [m], drift at the end of the record
     pounding_force(time, gap) [N], compression positive, at the analysis instants
     peak_displacement(building, floor) [m], max |u| over every (sub)step
     peak_displacement_no_pounding(building, floor) [m], same, gaps disabled
@@ -44,7 +47,8 @@ Data variables (units in ``attrs["units"]``)
 Attributes
     schema, schema_version, title, seispound_version, created_utc, model_file,
     model_text, record (JSON provenance; "none" for free vibration), contact_law,
-    dt, duration, newmark_beta, newmark_gamma, integrator_stats (JSON), building_ground_motion (JSON:
+    dt, duration, newmark_beta, newmark_gamma, scheme (the one used: "newmark" on the general driver),
+    driver ("fast" or "general": ``seispound.integrate.integrate``), integrator_stats (JSON), building_ground_motion (JSON:
     each building with a motion of its own: record, delay, filter).
 """
 
@@ -56,7 +60,7 @@ import json
 import numpy as np
 import xarray as xr
 
-from .peaks import amplifications, dof_peaks, drift_history, storey_arrays
+from .peaks import amplifications, dof_peaks, drift_history, storey_arrays, storey_force_history
 
 SCHEMA = "seispound-result"
 SCHEMA_VERSION = 3
@@ -84,9 +88,9 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
     # the four (time, building, floor) histories share one buffer: one large
     # allocation is backed by huge pages (a few page faults instead of thousands)
     nt = raw.displacement.shape[0]
-    hist = np.full((4, nt, nb, nfmax), np.nan)
+    hist = np.full((5, nt, nb, nfmax), np.nan)
     b_of, f_of = system.dof_building, system.dof_floor - 1
-    u, vel, acc, drift = hist
+    u, vel, acc, drift, shear = hist
     u[:, b_of, f_of] = raw.displacement
     vel[:, b_of, f_of] = raw.velocity
     acc[:, b_of, f_of] = raw.acceleration
@@ -94,6 +98,7 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
     below, storey_h, storey_k = storey_arrays(system, model.buildings)
     drift_dof = drift_history(raw.displacement, below)
     drift[:, b_of, f_of] = drift_dof
+    shear[:, b_of, f_of] = storey_force_history(raw, drift_dof, storey_k)
     peaks = dof_peaks(raw, below, storey_h, storey_k, drift_dof)
     peaks0 = None if raw_twin is None else dof_peaks(raw_twin, below, storey_h, storey_k)
     amps = amplifications(peaks, peaks0)
@@ -101,6 +106,7 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
     peak = _per_floor(peaks["displacement"], system, nb, nfmax)
     peak0 = _per_floor(nan if peaks0 is None else peaks0["displacement"], system, nb, nfmax)
     peak_drift = _per_floor(peaks["drift"], system, nb, nfmax)
+    residual = _per_floor(peaks["residual_drift"], system, nb, nfmax)
     amp = _per_floor(amps["displacement"], system, nb, nfmax)
     engineering = {}
     for name, units, what in (("acceleration", "m/s^2", "peak |absolute floor acceleration| (analysis instants)"),
@@ -139,6 +145,10 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
             acceleration=var(tbf, acc, "m/s^2",
                              "absolute floor acceleration"),
             drift=var(tbf, drift, "m", "inter-storey drift (floor minus floor below)"),
+            storey_force=var(tbf, shear, "N", "storey spring force of the storey below the floor: k x drift, or a "
+                                              "yielding storey's force (dashpot force excluded)"),
+            residual_drift=var(("building", "floor"), residual, "m",
+                               "inter-storey drift at the end of the record (permanent drift of a yielding storey)"),
             pounding_force=var(("time", "gap"), raw.force, "N", "pounding force (compression positive)"),
             peak_displacement=var(("building", "floor"), peak, "m", "peak |displacement| with pounding"),
             peak_displacement_no_pounding=var(("building", "floor"), peak0, "m",
@@ -178,7 +188,8 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
                                   "ground displacement under each building (exact integral of the piecewise-linear "
                                   "acceleration from rest); absolute floor position = displacement + this"),
             energy=var(("time", "energy_component"), raw.energy, "J",
-                       "energy balance (relative frame): input = kinetic + strain + damping + contact"),
+                       "energy balance (relative frame): input = kinetic + strain + damping + contact + "
+                       "hysteretic"),
         ),
         coords=dict(
             time=("time", raw.time, {"units": "s", "long_name": "time"}),
@@ -217,7 +228,8 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
         duration=float(model.analysis.nsteps * model.analysis.dt),
         newmark_beta=float(nm.beta),
         newmark_gamma=float(nm.gamma),
-        scheme=model.analysis.scheme,
+        scheme=model.analysis.scheme if raw.driver == "fast" else "newmark",
+        driver=raw.driver,
         integrator_stats=json.dumps(raw.stats),
         sign_convention="x positive from left building to right; penetration = u_left - u_right - gap",
     )

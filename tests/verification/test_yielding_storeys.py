@@ -1,0 +1,108 @@
+"""Yielding storeys (bilinear with kinematic hardening, Bouc-Wen) against the slow twin ``tests/hysteretic_twin.py``.
+
+* loops under imposed cyclic drift: the law through the material protocol (trial from the committed state,
+  commit) at the drift's samples, against solve_ivp on the law's ODE (events at the bilinear law's
+  switches);
+* a three-storey building under El Centro (x 2) through the whole driver, against the twin's building;
+* the energy balance with hysteretic dissipation, and the dissipated energy against the twin's exact integral;
+* the residual drift.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from seispound.integrate import integrate
+from seispound.integrate._material import N_STATE, material_commit, material_trial
+from seispound.storey import StoreyLaw
+from seispound.structure import Building, RayleighDamping, assemble
+from tests import hysteretic_twin as twin
+from tests.verification._helpers import el_centro, uniform_stiffness
+
+K, DY, ALPHA = 2.0e7, 0.005, 0.05  # N/m, m, -
+
+
+def _law(kind, n=2.0):
+    return StoreyLaw(kind=kind, yield_drift=DY, post_yield_ratio=ALPHA, n=n if kind == "bouc-wen" else None)
+
+
+def _twin_law(kind, k=K, dy=DY, n=2.0):
+    return dict(kind=kind, k=k, alpha=ALPHA, dy=dy, fy=k * dy, n=n, beta=0.5, gamma=0.5)
+
+
+@pytest.mark.parametrize("kind, n", [("bilinear", None), ("bouc-wen", 1.0), ("bouc-wen", 2.0), ("bouc-wen", 10.0)])
+def test_loops_under_imposed_cyclic_drift_equal_the_twin(kind, n):
+    """Three cycles growing from 0.4 to 4 dy; the force at 4000 samples."""
+    t = np.linspace(0.0, 3.0, 4001)
+
+    def drift(tt):
+        amp = DY * (0.4 + 1.2 * tt)
+        return amp * math.sin(2 * math.pi * tt), 1.2 * DY * math.sin(2 * math.pi * tt) + amp * 2 * math.pi * math.cos(
+            2 * math.pi * tt)
+
+    law = _law(kind, n or 2.0)
+    code, par = law.kernel_rows([K], 44)
+    committed, trial = np.zeros(N_STATE), np.zeros(N_STATE)
+    force = np.zeros(t.size)
+    for i in range(1, t.size):
+        force[i] = material_trial(code[0], par[0], committed, trial, drift(t[i])[0], 0.0)[0]
+        material_commit(committed, trial)
+    ref = twin.simulate([1.0], [_twin_law(kind, n=n or 2.0)], 0.0, 0.0, None, t[-1], t, drift=drift, rtol=1e-11)
+    err = np.abs(force - ref["f"][:, 0]).max() / np.abs(ref["f"]).max()
+    print(f"MEASURED {kind} n={n}: loop force against the twin {err:.1e} of the peak force")
+    assert err <= 1e-4
+
+
+def _building(kind, n=2.0):
+    k = uniform_stiffness(1e5, 3, 0.5)
+    law = StoreyLaw(kind=kind, yield_drift=0.01, post_yield_ratio=ALPHA, n=n if kind == "bouc-wen" else None)
+    return Building("A", [1e5] * 3, [k] * 3, [3.0] * 3, RayleighDamping(0.05, (1, 2)), storey_law=law), k
+
+
+def _run_and_twin(kind, dt):
+    b, k = _building(kind)
+    system = assemble([b], [])
+    ag, nsteps = el_centro(10.0, dt)
+    ag = 2.0 * ag
+    raw = integrate(system, ag, dt, nsteps)
+    a0, a1 = b.rayleigh_coefficients()
+    t = np.arange(nsteps + 1) * dt
+    ref = twin.simulate([1e5] * 3, [_twin_law(kind, k=k, dy=0.01)] * 3, a0, a1, lambda s: np.interp(s, t, ag),
+                        t[-1], t, breakpoints=np.arange(0.0, t[-1], 0.01))
+    return raw, ref
+
+
+@pytest.mark.parametrize("kind", ["bilinear", "bouc-wen"])
+def test_building_under_a_record_equals_the_twin(kind):
+    errs = []
+    for dt in (0.005, 0.0025):
+        raw, ref = _run_and_twin(kind, dt)
+        assert raw.driver == "general"
+        ne = np.linalg.norm(raw.displacement - ref["u"], axis=0) / np.linalg.norm(ref["u"], axis=0)
+        errs.append(ne.max())
+        e_h, e_h_ref = raw.energy[-1, 5], ref["e_hyst"][-1]
+        residual, residual_ref = raw.displacement[-1], ref["u"][-1]
+        print(f"MEASURED {kind} dt={dt}: displacement NE {ne.max():.2e}; hysteretic energy {e_h:.5g} J, twin "
+              f"{e_h_ref:.5g} J ({e_h / e_h_ref - 1:+.2e}); residual roof drift {residual[-1]:.5f} m, twin "
+              f"{residual_ref[-1]:.5f} m")
+        assert abs(e_h / e_h_ref - 1) <= 0.01
+        assert np.abs(residual - residual_ref).max() <= 0.01 * np.abs(ref["u"]).max()
+        assert e_h_ref > 0.3 * ref["e_input"][-1]  # the storeys really yield
+    print(f"MEASURED {kind}: NE ratio on halving the step {errs[0] / errs[1]:.2f}")
+    assert errs[0] <= 0.005
+    assert errs[0] / errs[1] >= 3.0  # second order
+
+
+@pytest.mark.parametrize("kind", ["bilinear", "bouc-wen"])
+def test_energy_balance_with_hysteretic_dissipation(kind):
+    raw, ref = _run_and_twin(kind, 0.005)
+    e = raw.energy
+    balance = e[:, 0] - e[:, 1:].sum(axis=1)
+    print(f"MEASURED {kind}: energy balance {np.abs(balance).max() / e[:, 0].max():.1e} of the input; "
+          f"input {e[-1, 0]:.5g} J, twin {ref['e_input'][-1]:.5g} J; damping {e[-1, 3]:.5g} J, twin "
+          f"{ref['e_damp'][-1]:.5g} J")
+    assert np.abs(balance).max() <= 1e-9 * e[:, 0].max()
+    assert abs(e[-1, 0] / ref["e_input"][-1] - 1) <= 0.01
+    assert abs(e[-1, 3] / ref["e_damp"][-1] - 1) <= 0.01
+    assert np.all(np.diff(e[:, 5]) >= -1e-6 * e[:, 5].max())  # dissipation never runs backwards

@@ -80,6 +80,11 @@ def _b_motion(table):
     return sub('name = "B"\nfloors = 8\n', f'name = "B"\nfloors = 8\nground_motion = {table}\n')
 
 
+def _b_law(table):
+    """Give building B the storey law ``table``."""
+    return sub('name = "B"\nfloors = 8\n', f'name = "B"\nfloors = 8\nstorey_law = {table}\n')
+
+
 def nan_record(folder: Path):
     """Replace sample 102 (0-based; line 25, third value) of the copied record with NaN."""
     lines = (folder / "rec.AT2").read_text().splitlines(keepends=True)
@@ -148,6 +153,24 @@ CASES = {
                                            'law = "HC"\nstiffness = 2.75e9\ndamping_constant = -0.2'), None,
                                        "model", "contact.damping_constant"),
     "hunt_crossley_takes_no_restitution": (sub('law = "Hd"', 'law = "HC"'), None, "model", "contact.restitution"),
+    "storey_law_unknown_kind": (_b_law('{ kind = "trilinear", yield_drift = 0.01 }'), None, "model",
+                                "building.B.storey_law.kind"),
+    "storey_law_both_yields": (_b_law('{ kind = "bilinear", yield_drift = 0.01, yield_force = 1e6 }'), None,
+                               "model", "building.B.storey_law.yield_drift"),
+    "storey_law_no_yield": (_b_law('{ kind = "bilinear", post_yield_ratio = 0.1 }'), None, "model",
+                            "building.B.storey_law.yield_drift"),
+    "storey_law_ratio_one": (_b_law('{ kind = "bilinear", yield_drift = 0.01, post_yield_ratio = 1.0 }'), None,
+                             "model", "building.B.storey_law.post_yield_ratio"),
+    "storey_law_per_storey_length": (_b_law('{ kind = "bilinear", yield_force = [1e6, 1e6] }'), None, "model",
+                                     "building.B.storey_law.yield_force"),
+    "storey_law_negative_yield": (_b_law('{ kind = "bilinear", yield_drift = -0.01 }'), None, "model",
+                                  "building.B.storey_law.yield_drift"),
+    "bouc_wen_without_n": (_b_law('{ kind = "bouc-wen", yield_drift = 0.01 }'), None, "model",
+                           "building.B.storey_law.n"),
+    "bouc_wen_unbounded": (_b_law('{ kind = "bouc-wen", yield_drift = 0.01, n = 2, beta = -0.5, gamma = 0.2 }'),
+                           None, "model", "building.B.storey_law.gamma"),
+    "storey_law_unknown_key": (_b_law('{ kind = "bilinear", yield_drif = 0.01 }'), None, "model",
+                               "building.B.storey_law.yield_drif"),
     "apparent_velocity_without_position": (sub('units = "g"\n', 'units = "g"\napparent_velocity = 300.0\n'),
                                            None, "model", "building.A.position"),
     "apparent_velocity_negative": (lambda t: _b_motion("{ lowpass = 5.0 }")(t).replace(
@@ -160,7 +183,8 @@ CASES = {
 CLI_CASES = ["malformed_toml", "missing_model_file", "unknown_law", "zero_mass", "zero_storey_stiffness",
              "lengths_disagree", "negative_gap", "nan_in_record", "units_unparseable", "missing_record_file",
              "unknown_key_typo", "gap_between_non_neighbours", "damping_modes_out_of_range", "dt_zero",
-             "motion_lowpass_above_nyquist", "apparent_velocity_without_position", "restitution_form_unknown"]
+             "motion_lowpass_above_nyquist", "apparent_velocity_without_position", "restitution_form_unknown",
+             "storey_law_both_yields"]
 
 # cases whose problem lies in the record's content: found when the record is read (simulate)
 RECORD_CONTENT = {"nan_in_record", "units_contradict_record"}

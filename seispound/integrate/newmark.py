@@ -43,6 +43,7 @@ class RawResult:
     storey_force: np.ndarray | None = None
     storey_dofs: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))  # the DOF above each
     driver: str = "fast"
+    drift: np.ndarray | None = None  # (nt, n) m: set by results.floors.floor_view (storey deformations)
 
 
 def gap_blocks(system, gap_i, gap_j) -> tuple[np.ndarray, np.ndarray]:

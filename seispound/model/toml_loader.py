@@ -12,6 +12,7 @@ else:  # pragma: no cover
 
 from ..contact import get_law, restitution_from
 from ..errors import InputError, number_array
+from ..foundation import Footing, Foundation, Soil
 from ..storey import StoreyLaw
 from ..structure import Building, Gap, NoDamping, RayleighDamping
 from .analysis import Analysis, Newmark
@@ -24,7 +25,11 @@ _ANALYSIS = {"dt", "duration", "newmark", "contact_substeps", "rtol", "max_iter"
 _NEWMARK = {"beta", "gamma"}
 _GROUND = {"file", "format", "dt", "trace", "units", "scale", "calibration", "baseline"}
 _BUILDING = {"name", "floors", "floor_masses", "storey_stiffness", "storey_heights", "damping",
-             "initial_velocity", "position", "ground_motion", "storey_law"}
+             "initial_velocity", "position", "ground_motion", "storey_law", "foundation"}
+_FOUNDATION = {"mass", "rotary_inertia", "floor_rotary_inertia", "sway_stiffness", "sway_damping",
+               "rocking_stiffness", "rocking_damping", "soil", "footing"}
+_SOIL = {"shear_wave_velocity", "density", "poisson"}
+_FOOTING = {"width", "length", "radius"}
 _STOREY_LAW = {"kind", "yield_drift", "yield_force", "post_yield_ratio", "n", "beta", "gamma"}
 _VARIANT = {"delay", "lowpass", "lowpass_order"}
 _DAMPING = {"kind", "ratio", "modes"}
@@ -141,8 +146,10 @@ def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
         damping = _damping(b.get("damping", {"kind": "rayleigh"}), f"{key}.damping")
         motion = _building_motion(b["ground_motion"], f"{key}.ground_motion", base) if "ground_motion" in b else None
         storey_law = _storey_law(b["storey_law"], f"{key}.storey_law") if "storey_law" in b else None
+        foundation = _foundation(b["foundation"], f"{key}.foundation") if "foundation" in b else None
         buildings.append(Building(name=name, damping=damping, initial_velocity=b.get("initial_velocity", 0.0),
                                   position=b.get("position"), ground_motion=motion, storey_law=storey_law,
+                                  foundation=foundation,
                                   **fields))
     # Building validates itself in __post_init__ with keys building.<name>.<field>
 
@@ -304,6 +311,28 @@ def _storey_law(d, key):
     if not isinstance(d["kind"], str):
         raise InputError(f"must be a string, got {d['kind']!r}", key=f"{key}.kind")
     return StoreyLaw(**d)
+
+
+def _foundation(d, key):
+    """``[[building]] foundation = { mass, rotary_inertia, ..., springs and dashpots or soil and footing }``."""
+    if not isinstance(d, dict):
+        raise InputError("must be a table { mass, rotary_inertia, sway_stiffness, ... } or "
+                         "{ mass, rotary_inertia, soil = {...}, footing = {...} }", key=key)
+    _check_keys(d, _FOUNDATION, key)
+    if "mass" not in d:
+        raise InputError("is required (the foundation's mass, kg)", key=f"{key}.mass")
+    parts = {}
+    for name, allowed, cls in (("soil", _SOIL, Soil), ("footing", _FOOTING, Footing)):
+        if name in d:
+            t = d[name]
+            if not isinstance(t, dict):
+                raise InputError("must be a table", key=f"{key}.{name}")
+            _check_keys(t, allowed, f"{key}.{name}")
+            if name == "soil":
+                for k in sorted(_SOIL - set(t)):
+                    raise InputError("is required", key=f"{key}.soil.{k}")
+            parts[name] = cls(**t)
+    return Foundation(**{k: v for k, v in d.items() if k not in parts}, **parts)
 
 
 def _damping(d, key):

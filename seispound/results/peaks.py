@@ -87,7 +87,7 @@ def dof_peaks(raw, below, height, stiff, drift=None) -> dict:
     dict of name -> ndarray (n,)
     """
     if drift is None:
-        drift = drift_history(raw.displacement, below)
+        drift = raw.drift if raw.drift is not None else drift_history(raw.displacement, below)
     peak_drift = _peak_abs(drift)
     shear = peak_drift * stiff  # an elastic storey's k is constant in time: max |k d| = k max |d|
     if raw.storey_force is not None and raw.storey_dofs.size:  # yielding storeys: their own force

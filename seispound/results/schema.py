@@ -12,10 +12,13 @@ Coordinates
     gap_left, gap_right (building names), gap_left_floor, gap_right_floor,
     gap_height [m], gap_size [m], gap_law (name); energy_component names.
 Data variables (units in ``attrs["units"]``)
-    displacement(time, building, floor) [m], relative to the ground under that building, +x to the right
+    displacement(time, building, floor) [m], relative to the ground under that building (the free field),
+        +x to the right; on a flexible foundation it includes the foundation's sway and rocking
     velocity(time, building, floor) [m/s], relative to the ground under that building
     acceleration(time, building, floor) [m/s^2], absolute (ground + relative)
-    drift(time, building, floor) [m], u_floor - u_floor_below (ground for floor 1)
+    drift(time, building, floor) [m], the storey's deformation: u_floor - u_floor_below (ground for
+        floor 1); on a flexible foundation minus the storey height x rocking (the foundation's sway below floor 1)
+    foundation_sway(time, building) [m], foundation_rocking(time, building) [rad] (NaN: a fixed base)
     storey_force(time, building, floor) [N], the spring force of the storey below the floor: k x drift,
         or a yielding storey's force (bilinear, Bouc-Wen); dashpot force excluded
     residual_drift(building, floor) [m], drift at the end of the record
@@ -78,6 +81,11 @@ def _per_floor(values, system, nb, nfmax):
 
 def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, version, motions=None) -> xr.Dataset:
     """Assemble the result Dataset of one run (see the module docstring for the schema)."""
+    from .floors import floor_view, foundation_motion
+
+    system_dofs, raw_dofs = system, raw
+    raw, system = floor_view(raw, system_dofs)
+    raw_twin = floor_view(raw_twin, system_dofs)[0]
     b_names = [b.name for b in model.buildings]
     nb = len(b_names)
     nfmax = max(b.n_floors for b in model.buildings)
@@ -96,7 +104,7 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
     acc[:, b_of, f_of] = raw.acceleration
     # drift per DOF: floor minus the floor below (the ground below the first)
     below, storey_h, storey_k = storey_arrays(system, model.buildings)
-    drift_dof = drift_history(raw.displacement, below)
+    drift_dof = raw.drift if raw.drift is not None else drift_history(raw.displacement, below)
     drift[:, b_of, f_of] = drift_dof
     shear[:, b_of, f_of] = storey_force_history(raw, drift_dof, storey_k)
     peaks = dof_peaks(raw, below, storey_h, storey_k, drift_dof)
@@ -125,6 +133,7 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
         periods[i, : b.n_floors] = b.periods
 
     base_acc, base_disp = _base_motion(motions, ground_acc, model.analysis.dt, nb)
+    sway, rocking = foundation_motion(raw_dofs, system_dofs, nb)
     links = system.links
     ng = len(links)
     imp = raw.impacts
@@ -187,6 +196,10 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
             base_displacement=var(("time", "building"), base_disp, "m",
                                   "ground displacement under each building (exact integral of the piecewise-linear "
                                   "acceleration from rest); absolute floor position = displacement + this"),
+            foundation_sway=var(("time", "building"), sway, "m",
+                                "foundation sway relative to the free field (NaN: a fixed base)"),
+            foundation_rocking=var(("time", "building"), rocking, "rad",
+                                   "foundation rocking, positive when the top moves +x (NaN: a fixed base)"),
             energy=var(("time", "energy_component"), raw.energy, "J",
                        "energy balance (relative frame): input = kinetic + strain + damping + contact + "
                        "hysteretic"),

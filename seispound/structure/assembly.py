@@ -71,6 +71,11 @@ class SystemArrays:
     mass_blocks : list of (dofs, coefs, mass), optional
         Masses acting on several DOFs (a rigid body seen from them): each adds
         mass b b^T to the mass matrix, b = coefs at dofs, beyond the lumped ``mass``.
+    dof_kind : (n,) int, optional
+        What each DOF is (``_layout``: FLOOR, SWAY, ROCKING); None: every DOF a floor.
+    outputs : FloorOutputs, optional
+        How the floors' outputs follow from the DOFs when they are not the DOFs
+        themselves (a foundation's DOFs, a rod floor's nodes); None: one DOF per floor.
     gap_dofs, gap_coefs : (ng, 4) int and float, optional
         Gaps whose sides are interpolated between two DOFs (a floor against a
         storey): penetration = sum coef u[dof] - size (+ ground terms); None:
@@ -108,6 +113,8 @@ class SystemArrays:
     mass_blocks: list | None = None
     gap_dofs: np.ndarray | None = None
     gap_coefs: np.ndarray | None = None
+    dof_kind: np.ndarray | None = None
+    outputs: FloorOutputs | None = None
 
     @property
     def n_dof(self) -> int:
@@ -167,6 +174,33 @@ class SystemArrays:
         return bool((self.el_law is not None and np.any(self.el_law))
                     or (self.el_third is not None and np.any(self.el_third >= 0))
                     or self.mass_blocks or self.gap_dofs is not None)
+
+    def matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Dense M [kg], C [N s/m], K [N/m], shape (n, n), from every element (linear storeys at their
+        initial stiffness), for eigenvalues and checks."""
+        tab = self.element_tables()
+        n = self.n_dof
+        M, C, K = np.zeros((n, n)), np.zeros((n, n)), np.zeros((n, n))
+
+        def add(A, dof, coef, c):
+            b = np.zeros(n)
+            used = dof >= 0
+            b[dof[used]] = coef[used]
+            A += c * np.outer(b, b)
+
+        for e in range(tab["ms_val"].size):
+            add(M, tab["ms_dof"][e], tab["ms_coef"][e], tab["ms_val"][e])
+            add(C, tab["ms_dof"][e], tab["ms_coef"][e], tab["ms_a0"][e] * tab["ms_val"][e])
+        for e in range(tab["le_k"].size):
+            add(K, tab["le_dof"][e], tab["le_coef"][e], tab["le_k"][e])
+            add(C, tab["le_dof"][e], tab["le_coef"][e], tab["le_c"][e])
+        if self.el_law is not None:  # storeys with history at their initial stiffness
+            for e in np.flatnonzero(self.el_law):
+                third = -1 if self.el_third is None else self.el_third[e]
+                dof = np.array([self.el_i[e], self.el_j[e], third])
+                coef = np.array([1.0, -1.0, 0.0 if self.el_lever is None else self.el_lever[e]])
+                add(K, dof, coef, self.el_k[e])
+        return M, C, K
 
     def element_tables(self) -> dict:
         """The row as coefficient-vector elements (``integrate._elements``), as the general driver takes it.
@@ -272,65 +306,101 @@ class SystemArrays:
         return A
 
 
+@dataclass
+class FloorOutputs:
+    """How the floors' output quantities follow from the DOFs when they are not the DOFs themselves.
+
+    (A foundation adds DOFs that are not floors; a rod floor has several nodes and one sensor.)
+    Attributes: building, floor (no,) of each output; sensor (no, n): the floor's output point
+    (displacement, velocity, acceleration = sensor @ DOF values); deformation (no, n): the
+    storey below's deformation (drift); single (no,): the DOF of a sensor that is one DOF with
+    weight 1, else -1; foundation (nb, 2): the rocking and sway DOF of each building (-1: none).
+    """
+
+    building: np.ndarray
+    floor: np.ndarray
+    sensor: np.ndarray
+    deformation: np.ndarray
+    single: np.ndarray
+    foundation: np.ndarray
+
+
 def assemble(buildings, gaps, default_law=None) -> SystemArrays:
     """Flatten ``buildings`` (left to right) and ``gaps`` into :class:`SystemArrays`."""
-    mass, dof_b, dof_f, a0s, v0 = [], [], [], [], []
-    el_i, el_j, el_k, el_a1, el_law, el_par = [], [], [], [], [], []
-    first = []
-    for b_idx, b in enumerate(buildings):
-        a0, a1 = b.rayleigh_coefficients()
-        start = len(mass)
-        if b.storey_law is not None:
-            codes, par = b.storey_law.kernel_rows(b.storey_stiffness, S.N_PAR)
-        else:
-            codes, par = np.zeros(b.n_floors, np.int64), np.zeros((b.n_floors, S.N_PAR))
-        el_law.extend(codes)
-        el_par.extend(par)
-        first.append(start)
-        for f in range(b.n_floors):
-            mass.append(b.floor_masses[f])
-            dof_b.append(b_idx)
-            dof_f.append(f + 1)
-            a0s.append(a0)
-            v0.append(b.initial_velocity[f])
-            el_i.append(start + f)
-            el_j.append(start + f - 1 if f > 0 else -1)
-            el_k.append(b.storey_stiffness[f])
-            el_a1.append(a1)
+    from ._layout import building_layout
+
+    layouts, first = [], []
+    n = 0
+    for b in buildings:
+        first.append(n)
+        lay = building_layout(b, n, S.N_PAR)
+        layouts.append(lay)
+        n += len(lay.mass)
+    cat = lambda name, dtype=float: np.asarray([x for lay in layouts for x in getattr(lay, name)], dtype)  # noqa
+    mass = cat("mass")
+    dof_b = np.concatenate([np.full(len(lay.mass), i, np.int64) for i, lay in enumerate(layouts)])
+    els = [e for lay in layouts for e in lay.el]
     links: list[GapLink] = []
     for g_idx, gap in enumerate(gaps):
         links.extend(expand_gap(gap, g_idx, buildings, default_law))
-    mass = np.asarray(mass, float)
     ng = len(links)
-    gap_i = np.array([first[l.left] + l.left_floor - 1 for l in links], dtype=np.int64)
-    gap_j = np.array([first[l.right] + l.right_floor - 1 for l in links], dtype=np.int64)
+    gap_i = np.array([layouts[l.left].face[l.left_floor] for l in links], dtype=np.int64)
+    gap_j = np.array([layouts[l.right].face[l.right_floor] for l in links], dtype=np.int64)
     gap_par = np.zeros((ng, S.N_PAR))
     for g, l in enumerate(links):
         gap_par[g] = l.law.kernel_params(mass[gap_i[g]], mass[gap_j[g]])
-    el_i = np.asarray(el_i, np.int64)
-    el_j = np.asarray(el_j, np.int64)
+    el_i = np.array([e[0] for e in els], np.int64)
+    el_j = np.array([e[1] for e in els], np.int64)
     coupled = el_j >= 0
     bandwidth = int(np.max(np.abs(el_i[coupled] - el_j[coupled]))) if coupled.any() else 0
-    n = mass.size
+    el_law = np.array([e[7] for e in els], np.int64)
+    el_third = np.array([e[2] for e in els], np.int64)
+    el_c = np.array([e[6] for e in els], float)
+    kind = cat("kind", np.int64)
+    plain = not np.any(kind != 0)
     return SystemArrays(
         mass=mass,
-        dof_building=np.asarray(dof_b, np.int64),
-        dof_floor=np.asarray(dof_f, np.int64),
+        dof_building=dof_b,
+        dof_floor=cat("floor", np.int64),
         dof_motion=np.zeros(n, np.int64),
-        dof_a0=np.asarray(a0s, float),
+        dof_a0=cat("a0"),
         el_i=el_i,
         el_j=el_j,
-        el_k=np.asarray(el_k, float),
-        el_a1=np.asarray(el_a1, float),
+        el_k=np.array([e[4] for e in els], float),
+        el_a1=np.array([e[5] for e in els], float),
         bandwidth=bandwidth,
         u0=np.zeros(n),
-        v0=np.asarray(v0, float),
+        v0=cat("v0"),
         gap_i=gap_i,
         gap_j=gap_j,
         gap_size=np.array([l.size for l in links], float),
         gap_law=np.array([l.law.code for l in links], dtype=np.int64),
         gap_par=gap_par,
         links=links,
-        el_law=np.asarray(el_law, np.int64) if any(el_law) else None,
-        el_par=np.asarray(el_par, float).reshape(-1, S.N_PAR) if any(el_law) else None,
+        el_c=el_c if np.any(el_c) else None,
+        dof_influence=None if plain else cat("influence"),
+        el_law=el_law if np.any(el_law) else None,
+        el_par=np.array([np.zeros(S.N_PAR) if e[8] is None else e[8] for e in els], float) if np.any(el_law)
+        else None,
+        el_third=el_third if np.any(el_third >= 0) else None,
+        el_lever=np.array([e[3] for e in els], float) if np.any(el_third >= 0) else None,
+        dof_kind=kind,
+        outputs=None if plain else _floor_outputs(layouts, n),
     )
+
+
+def _floor_outputs(layouts, n) -> FloorOutputs:
+    rows = [(i, fl, lay.sensor[fl], lay.deformation[fl]) for i, lay in enumerate(layouts) for fl in sorted(lay.sensor)]
+    no = len(rows)
+    sensor, deformation = np.zeros((no, n)), np.zeros((no, n))
+    single = np.full(no, -1, np.int64)
+    for r, (_, _, sen, dfm) in enumerate(rows):
+        for d, w in sen.items():
+            sensor[r, d] = w
+        for d, w in dfm.items():
+            deformation[r, d] = w
+        if len(sen) == 1 and next(iter(sen.values())) == 1.0:
+            single[r] = next(iter(sen))
+    fnd = np.array([lay.foundation or (-1, -1) for lay in layouts], np.int64).reshape(-1, 2)
+    return FloorOutputs(building=np.array([r[0] for r in rows], np.int64), floor=np.array([r[1] for r in rows], np.int64),
+                        sensor=sensor, deformation=deformation, single=single, foundation=fnd)

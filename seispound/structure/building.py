@@ -64,6 +64,10 @@ class Building:
         bilinear or Bouc-Wen, per building or per storey); None: elastic.
         ``storey_stiffness`` is then the initial stiffness, and the Rayleigh
         damping is computed from it.
+    foundation : Foundation, optional
+        A rigid foundation that sways and rocks on the soil
+        (:class:`seispound.foundation.Foundation`); None: a fixed base.  The
+        periods, modes and Rayleigh coefficients stay those of the fixed-base building.
     """
 
     name: str
@@ -75,6 +79,7 @@ class Building:
     position: float | None = None
     ground_motion: object = None
     storey_law: object = None
+    foundation: object = None
 
     def __post_init__(self):
         self.validate()
@@ -116,6 +121,12 @@ class Building:
             if not isinstance(self.storey_law, StoreyLaw):
                 raise InputError("must be a StoreyLaw", key=f"{key}.storey_law")
             self.storey_law.validate(n, f"{key}.storey_law")
+        if self.foundation is not None:
+            from ..foundation import Foundation
+
+            if not isinstance(self.foundation, Foundation):
+                raise InputError("must be a Foundation", key=f"{key}.foundation")
+            self.foundation.validate(n, f"{key}.foundation")
         d = self.damping
         if isinstance(d, RayleighDamping):
             if not (isinstance(d.ratio, (int, float)) and 0.0 <= d.ratio < 1.0):

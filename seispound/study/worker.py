@@ -44,6 +44,7 @@ def _storeys(model, system):
 def twin_task(study, index: int) -> dict:
     """The no-pounding twin of run ``index``'s group: its peaks per DOF (results/peaks.py), or its error."""
     from ..integrate import integrate
+    from ..results.floors import floor_view
     from ..results.peaks import dof_peaks
     from ..simulation import run_inputs
 
@@ -52,7 +53,8 @@ def twin_task(study, index: int) -> dict:
         system, motions = run_inputs(model)
         an = model.analysis
         raw = integrate(system.without_contact(), motions.rows, an.dt, an.nsteps, an.newmark, scheme=an.scheme)
-        return {"peaks": dof_peaks(raw, *_storeys(model, system)), "error": ""}
+        raw, floors = floor_view(raw, system)
+        return {"peaks": dof_peaks(raw, *_storeys(model, floors)), "error": ""}
     except Exception as exc:  # a bad record fails every run of its group, not the study
         return {"peaks": None, "error": _error_text(exc)}
 
@@ -60,6 +62,7 @@ def twin_task(study, index: int) -> dict:
 def run_one(study, index: int, twin: dict) -> dict:
     """Run ``index`` of the study: its summaries (and kept histories) as arrays, or its error."""
     from ..integrate import integrate
+    from ..results.floors import floor_view
     from ..results.peaks import amplifications, dof_peaks, drift_history
     from ..simulation import run_inputs
 
@@ -75,9 +78,10 @@ def run_one(study, index: int, twin: dict) -> dict:
     except Exception as exc:
         out["error"] = _error_text(exc)
         return out
-    below, height, stiff = _storeys(model, system)
+    raw, floors = floor_view(raw, system)
+    below, height, stiff = _storeys(model, floors)
     u = raw.displacement
-    drift = drift_history(u, below)
+    drift = raw.drift if raw.drift is not None else drift_history(u, below)
     peaks = dof_peaks(raw, below, height, stiff, drift)
     peaks0 = twin["peaks"]
     amps = amplifications(peaks, peaks0)

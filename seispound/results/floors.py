@@ -1,0 +1,65 @@
+"""The run as the results see it: one column per floor, whatever DOFs the row was integrated on.
+
+A row of lumped, fixed-base buildings has one DOF per floor and passes through
+unchanged.  A foundation adds DOFs that are not floors (sway, rocking; floor
+displacements are then relative to the free field), and a rod floor has
+several nodes and one sensor: ``SystemArrays.outputs`` says how each floor's
+output point and its storey's deformation follow from the DOFs.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+__all__ = ["FloorSystem", "floor_view", "foundation_motion"]
+
+
+@dataclass
+class FloorSystem:
+    """What the results need of a row, per floor output: building and floor of each, the gaps."""
+
+    dof_building: np.ndarray
+    dof_floor: np.ndarray
+    links: list
+    gap_size: np.ndarray
+
+    @property
+    def n_dof(self) -> int:
+        return int(self.dof_building.size)
+
+
+def floor_view(raw, system):
+    """(raw, system) per floor: histories at each floor's sensor, drift as its storey's deformation.
+
+    Peaks over every substep are kept where a floor's sensor is one DOF; elsewhere
+    (a sensor between rod nodes) they are taken at the analysis instants.
+    """
+    out = system.outputs
+    if out is None:
+        return raw, system
+    fsys = FloorSystem(out.building, out.floor, system.links, system.gap_size)
+    if raw is None:
+        return None, fsys
+    S, D = out.sensor, out.deformation
+    u = raw.displacement @ S.T
+    peak = np.abs(u).max(axis=0) if u.shape[0] else np.zeros(S.shape[0])
+    one = out.single >= 0
+    peak[one] = raw.peak_displacement[out.single[one]]
+    where = {int(d): r for r, d in enumerate(out.single) if d >= 0}
+    return replace(raw, displacement=u, velocity=raw.velocity @ S.T, acceleration=raw.acceleration @ S.T,
+                   peak_displacement=peak, drift=raw.displacement @ D.T,
+                   storey_dofs=np.array([where[int(d)] for d in raw.storey_dofs], np.int64)), fsys
+
+
+def foundation_motion(raw, system, nb):
+    """Sway [m] and rocking [rad] of each building's foundation, two (nt, nb) arrays (NaN: a fixed base)."""
+    nt = raw.displacement.shape[0]
+    sway, rock = np.full((nt, nb), np.nan), np.full((nt, nb), np.nan)
+    if system.outputs is not None:
+        for b, (theta, u0) in enumerate(system.outputs.foundation):
+            if theta >= 0:
+                rock[:, b] = raw.displacement[:, theta]
+                sway[:, b] = raw.displacement[:, u0]
+    return sway, rock

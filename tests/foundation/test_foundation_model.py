@@ -1,0 +1,92 @@
+"""Foundations in the model: parsing (springs or soil and footing), what a run stores, and the schema's frame."""
+
+import numpy as np
+import pytest
+
+from seispound import simulate
+from seispound.foundation import Foundation, Footing, Soil, cone_impedances
+from seispound.model import load_model
+from seispound.structure import assemble
+from tests._models import short_copy
+
+SOIL_FOUNDATION = ('foundation = { mass = 2.0e5, rotary_inertia = 1.0e6, floor_rotary_inertia = 5.0e5, '
+                   'soil = { shear_wave_velocity = 150.0, density = 1800.0, poisson = 0.35 }, '
+                   'footing = { width = 12.0, length = 15.0 } }\n')
+
+
+def _model(tmp_path, foundation=SOIL_FOUNDATION, duration=4.0):
+    path = short_copy(tmp_path, duration)
+    text = path.read_text().replace('name = "A"\n', 'name = "A"\n' + foundation, 1)
+    path.write_text(text)
+    return load_model(path)
+
+
+def test_soil_and_footing_give_the_cone_impedances(tmp_path):
+    model = _model(tmp_path)
+    f = model.buildings[0].foundation
+    assert isinstance(f.soil, Soil) and isinstance(f.footing, Footing)
+    imp = f.impedances()
+    assert imp == cone_impedances(Soil(150.0, 1800.0, 0.35), Footing(width=12.0, length=15.0))
+    # poisson 0.35 > 1/3: a trapped rotary inertia joins the rocking DOF
+    assert f.rocking_inertia(4) == pytest.approx(1e6 + 4 * 5e5 + imp["trapped_rotary_inertia"])
+    system = assemble(model.buildings, model.gaps, model.contact)
+    assert system.needs_general_driver
+    assert system.n_dof == 4 + 2 + 8
+    np.testing.assert_array_equal(system.outputs.foundation, [[0, 1], [-1, -1]])
+
+
+def test_a_run_stores_foundation_motion_and_drift_as_storey_deformation(tmp_path):
+    model = _model(tmp_path)
+    ds = simulate(model)
+    assert ds.attrs["driver"] == "general"
+    sway = ds.foundation_sway.sel(building="A")
+    rock = ds.foundation_rocking.sel(building="A")
+    assert float(abs(sway).max()) > 0 and float(abs(rock).max()) > 0
+    assert bool(np.isnan(ds.foundation_sway.sel(building="B")).all())
+    u = ds.displacement.sel(building="A")
+    # drift of storey 1 = w1 - u0 - h1 theta; storey 2 = w2 - w1 - h theta
+    np.testing.assert_allclose(ds.drift.sel(building="A", floor=1), u.sel(floor=1) - sway - 3.0 * rock, atol=1e-15)
+    np.testing.assert_allclose(ds.drift.sel(building="A", floor=2), u.sel(floor=2) - u.sel(floor=1) - 3.0 * rock,
+                               atol=1e-15)
+    # elastic storeys: the storey force is k times that deformation
+    np.testing.assert_allclose(ds.storey_force.sel(building="A"), 1.3092e8 * ds.drift.sel(building="A"))
+    e = ds.energy
+    balance = e.sel(energy_component="input") - e.drop_sel(energy_component="input").sum("energy_component")
+    assert float(abs(balance).max()) <= 1e-9 * float(e.sel(energy_component="input").max())
+
+
+def test_a_stiff_foundation_approaches_the_fixed_base(tmp_path):
+    """Springs 1e6 times the storeys' and a light foundation: the floors move as on a fixed base."""
+    model = load_model(short_copy(tmp_path, 4.0))
+    model.analysis.scheme = "newmark"  # as the general driver steps
+    fixed = simulate(model, twin=False)
+    stiff = ('foundation = { mass = 1.0e3, rotary_inertia = 1.0e3, sway_stiffness = 1.0e14, sway_damping = 0.0, '
+             'rocking_stiffness = 1.0e16, rocking_damping = 0.0 }\n')
+    flex = simulate(_model(tmp_path, stiff), twin=False)
+    u0, u1 = fixed.displacement.sel(building="A"), flex.displacement.sel(building="A")
+    err = float(abs(u1 - u0).max() / abs(u0).max())
+    print(f"MEASURED stiff foundation against the fixed base: {err:.1e} of the peak displacement")
+    assert err <= 1e-3
+
+
+@pytest.mark.parametrize("table, key", [
+    ("{ rotary_inertia = 1.0 }", "building.A.foundation.mass"),
+    ("{ mass = 1.0e5, rotary_inertia = 1.0e6, sway_stiffness = 1.0e9 }", "building.A.foundation.sway_damping"),
+    ("{ mass = 1.0e5, rotary_inertia = 1.0e6, soil = { shear_wave_velocity = 150.0, density = 1800.0, "
+     "poisson = 0.3 } }", "building.A.foundation.footing"),
+    ("{ mass = 1.0e5, rotary_inertia = 1.0e6, soil = { shear_wave_velocity = 150.0, density = 1800.0, "
+     "poisson = 0.5 }, footing = { radius = 5.0 } }", "building.A.foundation.soil.poisson"),
+    ("{ mass = 1.0e5, sway_stiffness = 1.0e9, sway_damping = 0.0, rocking_stiffness = 1.0e11, "
+     "rocking_damping = 0.0 }", "building.A.foundation.rotary_inertia"),
+    ("{ mass = 1.0e5, rotary_inertia = 1.0e6, soil = { shear_wave_velocity = 150.0, density = 1800.0 }, "
+     "footing = { radius = 5.0 } }", "building.A.foundation.soil.poisson"),
+    ("{ mass = 1.0e5, rotary_inertia = 1.0e6, footing = { radius = 5.0, width = 3.0 }, soil = { "
+     "shear_wave_velocity = 150.0, density = 1800.0, poisson = 0.3 } }", "building.A.foundation.footing.radius"),
+    ("{ mass = 1.0e5, rotary_inertia = 1.0e6, sway_stiffnes = 1.0e9 }", "building.A.foundation.sway_stiffnes"),
+])
+def test_bad_foundations_name_their_key(tmp_path, table, key):
+    from seispound.errors import InputError
+
+    with pytest.raises(InputError) as err:
+        _model(tmp_path, f"foundation = {table}\n")
+    assert err.value.key == key

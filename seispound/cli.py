@@ -173,8 +173,9 @@ def summary(ds, out=None) -> str:
     if ng:
         lines.append("  gap  between        floors  size [m]  impacts  peak force [kN]")
         for g in range(ng):
+            left, right = _gap_side(ds, g, "left"), _gap_side(ds, g, "right")
             lines.append(f"  {g:>3}  {ds.gap_left.values[g]:>6}|{ds.gap_right.values[g]:<6}  "
-                         f"{int(ds.gap_left_floor[g]):>3}|{int(ds.gap_right_floor[g]):<3} "
+                         f"{left:>3}|{right:<3} "
                          f"{float(ds.gap_size[g]):>8.4f}  {int(ds.impact_count[g]):>7}  "
                          f"{float(ds.peak_pounding_force[g]) / 1e3:>15.1f}")
     amp = ds.amplification
@@ -191,6 +192,14 @@ def summary(ds, out=None) -> str:
     if out is not None:
         lines.append(f"  written to {out}")
     return "\n".join(lines)
+
+
+def _gap_side(ds, g, side) -> str:
+    """A gap side in the summary: its floor ("3"), or the storey it strikes and where ("s3@0.50": storey 3, half
+    way up)."""
+    floor = int(ds[f"gap_{side}_floor"][g])
+    w = float(ds[f"gap_{side}_weight"][g]) if f"gap_{side}_weight" in ds.coords else 1.0
+    return str(floor) if w == 1.0 else f"s{floor}@{w:.2f}"
 
 
 def _engineering_lines(ds) -> list[str]:

@@ -174,14 +174,19 @@ def _step_findings(model) -> list[Finding]:
 
 
 def _level_findings(model) -> list[Finding]:
-    """Neighbours whose floors, up to the lower roof, mostly stand at levels the other has no floor at."""
+    """Floors below the lower roof that face a storey of the neighbour with no gap element there.
+
+    ``levels = "floors"``: floors at levels the other has no floor at, when they are most of them
+    (the model then lets no floor strike a storey); ``levels = "lower"``: the taller neighbour's
+    floors that face a storey of the lower one (``levels = "all"`` adds them).
+    """
     from .structure.gap import HEIGHT_TOLERANCE
 
     out = []
     index = {b.name: b for b in model.buildings}
     for gi, gap in enumerate(model.gaps):
         pair = [index.get(n) for n in gap.between]
-        if None in pair:
+        if None in pair or gap.levels == "all":
             continue
         roof = min(b.floor_heights[-1] for b in pair) + HEIGHT_TOLERANCE
         facing, shared = [], None
@@ -191,6 +196,17 @@ def _level_findings(model) -> list[Finding]:
             shared = h[match] if shared is None else shared
             facing.append((b, other, np.flatnonzero(~match) + 1, h[~match], h.size))
         most = max(f[4] for f in facing)
+        key = f"gap.{gi + 1}.levels"
+        if gap.levels == "lower":
+            lower = min(pair, key=lambda b: b.floor_heights[-1])
+            missed = [f for f in facing if f[0] is not lower and f[2].size]
+            if missed:
+                b, o, fl, hs, _ = missed[0]
+                out.append(Finding("floor_levels", f"{pair[0].name}|{pair[1].name}: {b.name}'s floors "
+                                   f"{', '.join(f'{f} ({x:g} m)' for f, x in zip(fl, hs))} face a storey of "
+                                   f"{o.name} and have no gap element (levels = \"lower\": {o.name}'s floors "
+                                   "only); levels = \"all\" adds them", key=key))
+            continue
         if shared.size >= LEVEL_SHARE * most:
             continue
         faces = "; ".join(f"{b.name}'s floors {', '.join(f'{f} ({x:g} m)' for f, x in zip(fl, hs))} face a storey "
@@ -198,8 +214,8 @@ def _level_findings(model) -> list[Finding]:
         out.append(Finding(
             "floor_levels", f"{pair[0].name}|{pair[1].name}: only {shared.size} of the floor levels below the lower "
                             f"roof are shared ({most} floors in the taller count); gap elements at "
-                            f"{', '.join(f'{x:g}' for x in shared) or 'none'} m only. {faces}: this model does "
-                            "not let a floor strike a storey", key=f"gap.{gi + 1}.between"))
+                            f"{', '.join(f'{x:g}' for x in shared) or 'none'} m only. {faces}: levels = \"floors\" "
+                            "lets no floor strike a storey (\"lower\" or \"all\" do)", key=key))
     return out
 
 

@@ -111,6 +111,7 @@ def test_floors_that_mostly_face_a_storey(tmp_path):
     text = text.replace("floor_masses = [1.0e5, 1.0e5, 1.0e5, 1.0e5]", "floor_masses = 1.0e5\nfloors = 6")
     text = text.replace("storey_stiffness = [1.3092e8, 1.3092e8, 1.3092e8, 1.3092e8]", "storey_stiffness = 1.3e8")
     text = text.replace("floors = 8\n", "floors = 4\n").replace("storey_heights = 3.0\n", "storey_heights = [3.0, 4.5, 4.5, 4.5]\n")
+    text = text.replace('size = 0.02', 'size = 0.02\nlevels = "floors"', 1)
     model = sp.load_model(write_model(tmp_path, text))
     found = [f for f in check_before_run(model, None) if f.code == "floor_levels"]
     assert len(found) == 1
@@ -119,7 +120,13 @@ def test_floors_that_mostly_face_a_storey(tmp_path):
     assert "gap elements at 3, 12 m only" in msg
     assert "A's floors 2 (6 m), 3 (9 m), 5 (15 m) face a storey of B; B's floors 2 (7.5 m), 4 (16.5 m) face a " \
            "storey of A" in msg
-    assert found[0].key == "gap.1.between"
+    assert found[0].key == "gap.1.levels"
+    # by default B's floors (the lower roof) strike A's storeys; A's floors facing B's storeys are named
+    model.gaps[0].levels = "lower"
+    (f,) = [f for f in check_before_run(model, None) if f.code == "floor_levels"]
+    assert "A's floors 2 (6 m), 3 (9 m), 5 (15 m) face a storey of B and have no gap element" in f.message
+    model.gaps[0].levels = "all"
+    assert [f for f in check_before_run(model, None) if f.code == "floor_levels"] == []
 
 
 def test_velocity_ratio_outside_unit_interval_is_named_not_an_error():

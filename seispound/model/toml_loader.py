@@ -12,6 +12,7 @@ else:  # pragma: no cover
 
 from ..contact import get_law, restitution_from
 from ..errors import InputError, number_array
+from ..floor import Attachment, RodFloor
 from ..foundation import Footing, Foundation, Soil
 from ..storey import StoreyLaw
 from ..structure import Building, Gap, NoDamping, RayleighDamping
@@ -25,7 +26,10 @@ _ANALYSIS = {"dt", "duration", "newmark", "contact_substeps", "rtol", "max_iter"
 _NEWMARK = {"beta", "gamma"}
 _GROUND = {"file", "format", "dt", "trace", "units", "scale", "calibration", "baseline"}
 _BUILDING = {"name", "floors", "floor_masses", "storey_stiffness", "storey_heights", "damping",
-             "initial_velocity", "position", "ground_motion", "storey_law", "foundation"}
+             "initial_velocity", "position", "ground_motion", "storey_law", "foundation", "floor_model"}
+_FLOOR_MODEL = {"kind", "segments", "length", "axial_stiffness", "youngs_modulus", "area", "axial_damping", "sensor",
+                "attachment"}
+_ATTACHMENT = {"mass", "joint_stiffness", "joint_damping"}
 _FOUNDATION = {"mass", "rotary_inertia", "floor_rotary_inertia", "sway_stiffness", "sway_damping",
                "rocking_stiffness", "rocking_damping", "soil", "footing"}
 _SOIL = {"shear_wave_velocity", "density", "poisson"}
@@ -34,7 +38,7 @@ _STOREY_LAW = {"kind", "yield_drift", "yield_force", "post_yield_ratio", "n", "b
 _VARIANT = {"delay", "lowpass", "lowpass_order"}
 _DAMPING = {"kind", "ratio", "modes"}
 _LAW_KEYS = {"law", "stiffness", "restitution", "tension", "damping_constant", "exponent"}
-_GAP = {"between", "size"} | _LAW_KEYS
+_GAP = {"between", "size", "levels"} | _LAW_KEYS
 
 
 def load_model(path) -> Model:
@@ -147,9 +151,10 @@ def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
         motion = _building_motion(b["ground_motion"], f"{key}.ground_motion", base) if "ground_motion" in b else None
         storey_law = _storey_law(b["storey_law"], f"{key}.storey_law") if "storey_law" in b else None
         foundation = _foundation(b["foundation"], f"{key}.foundation") if "foundation" in b else None
+        floor_model = _floor_model(b["floor_model"], f"{key}.floor_model") if "floor_model" in b else None
         buildings.append(Building(name=name, damping=damping, initial_velocity=b.get("initial_velocity", 0.0),
                                   position=b.get("position"), ground_motion=motion, storey_law=storey_law,
-                                  foundation=foundation,
+                                  foundation=foundation, floor_model=floor_model,
                                   **fields))
     # Building validates itself in __post_init__ with keys building.<name>.<field>
 
@@ -172,7 +177,7 @@ def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
             merged.update(own)
             glaw = _make_law(merged, key)
         gaps.append(Gap(between=tuple(gp["between"]) if isinstance(gp["between"], list) else gp["between"],
-                        size=gp["size"], law=glaw))
+                        size=gp["size"], law=glaw, levels=gp.get("levels", "lower")))
     if gaps and law is None and any(g.law is None for g in gaps):
         raise InputError("a [contact] table (law, stiffness, restitution) is required when there are gaps",
                          key="contact")
@@ -333,6 +338,32 @@ def _foundation(d, key):
                     raise InputError("is required", key=f"{key}.soil.{k}")
             parts[name] = cls(**t)
     return Foundation(**{k: v for k, v in d.items() if k not in parts}, **parts)
+
+
+def _floor_model(d, key):
+    """``[[building]] floor_model = { kind = "rod", segments, length, axial_stiffness, ..., attachment = {...} }``."""
+    if not isinstance(d, dict):
+        raise InputError('must be a table { kind = "rod", segments, length, axial_stiffness, ... }', key=key)
+    _check_keys(d, _FLOOR_MODEL, key)
+    kind = d.get("kind", "rod")
+    if kind == "lumped":
+        return None
+    if kind != "rod":
+        raise InputError(f'must be "rod" or "lumped", got {kind!r}', key=f"{key}.kind")
+    for req in ("segments", "length"):
+        if req not in d:
+            raise InputError("is required", key=f"{key}.{req}")
+    att = None
+    if "attachment" in d:
+        a = d["attachment"]
+        if not isinstance(a, dict):
+            raise InputError("must be a table { mass, joint_stiffness, joint_damping }", key=f"{key}.attachment")
+        _check_keys(a, _ATTACHMENT, f"{key}.attachment")
+        for req in ("mass", "joint_stiffness"):
+            if req not in a:
+                raise InputError("is required", key=f"{key}.attachment.{req}")
+        att = Attachment(**a)
+    return RodFloor(**{k: v for k, v in d.items() if k not in ("kind", "attachment")}, attachment=att)
 
 
 def _damping(d, key):

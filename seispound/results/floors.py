@@ -47,10 +47,16 @@ def floor_view(raw, system):
     peak = np.abs(u).max(axis=0) if u.shape[0] else np.zeros(S.shape[0])
     one = out.single >= 0
     peak[one] = raw.peak_displacement[out.single[one]]
-    where = {int(d): r for r, d in enumerate(out.single) if d >= 0}
+    storey_force, storey_rows = raw.storey_force, np.zeros(0, np.int64)
+    if raw.storey_force is not None and raw.storey_elements.size:  # a floor's storey: the sum of its springs
+        rows = out.storey_output[raw.storey_elements]
+        storey_rows = np.unique(rows)
+        storey_force = np.zeros((raw.storey_force.shape[0], storey_rows.size))
+        for q, r in enumerate(rows):
+            storey_force[:, np.searchsorted(storey_rows, r)] += raw.storey_force[:, q]
     return replace(raw, displacement=u, velocity=raw.velocity @ S.T, acceleration=raw.acceleration @ S.T,
-                   peak_displacement=peak, drift=raw.displacement @ D.T,
-                   storey_dofs=np.array([where[int(d)] for d in raw.storey_dofs], np.int64)), fsys
+                   peak_displacement=peak, drift=raw.displacement @ D.T, storey_force=storey_force,
+                   storey_dofs=storey_rows), fsys
 
 
 def foundation_motion(raw, system, nb):

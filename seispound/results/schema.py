@@ -10,7 +10,10 @@ Coordinates
     time [s]; building (names, left to right); floor (1-based); mode (1-based);
     floor_height(building, floor) [m]; gap (0-based);
     gap_left, gap_right (building names), gap_left_floor, gap_right_floor,
-    gap_height [m], gap_size [m], gap_law (name); energy_component names.
+    gap_height [m], gap_size [m], gap_law (name), gap_kind ("floor-to-floor" or "floor-to-storey"),
+    gap_left_weight, gap_right_weight [1] (1 for a floor; for a side struck on a storey, the point's
+    height above the floor below over the storey height; gap_*_floor is then the floor above);
+    energy_component names.
 Data variables (units in ``attrs["units"]``)
     displacement(time, building, floor) [m], relative to the ground under that building (the free field),
         +x to the right; on a flexible foundation it includes the foundation's sway and rocking
@@ -19,6 +22,9 @@ Data variables (units in ``attrs["units"]``)
     drift(time, building, floor) [m], the storey's deformation: u_floor - u_floor_below (ground for
         floor 1); on a flexible foundation minus the storey height x rocking (the foundation's sway below floor 1)
     foundation_sway(time, building) [m], foundation_rocking(time, building) [rad] (NaN: a fixed base)
+    node_displacement(time, building, floor, node) [m], with coordinates node and node_position(building, node)
+        [m from the left face]: only when some building has rod floors; displacement, velocity and
+        acceleration of a rod floor are those at its sensor, its drift the mass-weighted mean of its nodes'
     storey_force(time, building, floor) [N], the spring force of the storey below the floor: k x drift,
         or a yielding storey's force (bilinear, Bouc-Wen); dashpot force excluded
     residual_drift(building, floor) [m], drift at the end of the record
@@ -134,6 +140,7 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
 
     base_acc, base_disp = _base_motion(motions, ground_acc, model.analysis.dt, nb)
     sway, rocking = foundation_motion(raw_dofs, system_dofs, nb)
+    rods = _rod_nodes(model, system_dofs, raw_dofs, nb, nfmax)
     links = system.links
     ng = len(links)
     imp = raw.impacts
@@ -218,6 +225,13 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
             gap_left_floor=("gap", np.array([l.left_floor for l in links], np.int64), {"units": "1"}),
             gap_right_floor=("gap", np.array([l.right_floor for l in links], np.int64), {"units": "1"}),
             gap_height=("gap", np.array([l.height for l in links], float), {"units": "m"}),
+            gap_kind=("gap", np.array([l.kind for l in links], dtype=object),
+                      {"long_name": "floor-to-floor, or floor-to-storey (a floor against the columns between two "
+                                    "floors of the neighbour)"}),
+            gap_left_weight=("gap", np.array([l.left_weight for l in links], float),
+                             {"units": "1", "long_name": "1 for a floor; for a storey, the point's height above "
+                                                         "the floor below / storey height"}),
+            gap_right_weight=("gap", np.array([l.right_weight for l in links], float), {"units": "1"}),
             gap_size=("gap", system.gap_size.copy(), {"units": "m", "long_name": "at-rest gap"}),
             gap_law=("gap", np.array([l.law.name for l in links], dtype=object), {"long_name": "contact law"}),
             impact=("impact", np.arange(ni), {"long_name": "impact number"}),
@@ -246,7 +260,31 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
         integrator_stats=json.dumps(raw.stats),
         sign_convention="x positive from left building to right; penetration = u_left - u_right - gap",
     )
+    if rods is not None:
+        disp, pos = rods
+        ds["node_displacement"] = xr.Variable(("time", "building", "floor", "node"), disp, attrs={
+            "units": "m", "long_name": "displacement of each node of a rod floor (relative to the ground)"})
+        ds = ds.assign_coords(node=("node", np.arange(pos.shape[1]), {"long_name": "rod node, left face = 0"}),
+                              node_position=(("building", "node"), pos,
+                                             {"units": "m", "long_name": "node position from the floor's left face"}))
     return ds
+
+
+def _rod_nodes(model, system, raw, nb, nfmax):
+    """(displacement (nt, nb, nfmax, nodes), position (nb, nodes)) of the rod floors' nodes, or None if none."""
+    out = system.outputs
+    if out is None or not any(out.nodes):
+        return None
+    nn = max(len(x) for x in out.nodes)
+    disp = np.full((raw.displacement.shape[0], nb, nfmax, nn), np.nan)
+    pos = np.full((nb, nn), np.nan)
+    for r, dofs in enumerate(out.nodes):
+        if dofs:
+            b, f = out.building[r], out.floor[r] - 1
+            disp[:, b, f, :len(dofs)] = raw.displacement[:, dofs]
+            rod = model.buildings[b].floor_model
+            pos[b, :len(dofs)] = np.linspace(0.0, rod.length, len(dofs))
+    return disp, pos
 
 
 def _base_motion(motions, ground_acc, dt, nb):

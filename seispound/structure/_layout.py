@@ -21,7 +21,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 # what a DOF is
-FLOOR, SWAY, ROCKING = 0, 1, 2
+FLOOR, SWAY, ROCKING, NODE, ATTACHMENT = 0, 1, 2, 3, 4
+LEFT, RIGHT = 0, 1
 
 
 @dataclass
@@ -30,19 +31,26 @@ class Layout:
 
     mass: list = field(default_factory=list)
     kind: list = field(default_factory=list)
-    floor: list = field(default_factory=list)  # 1-based floor of a FLOOR DOF, 0 otherwise
+    floor: list = field(default_factory=list)  # 1-based floor of a floor's DOF, 0 for the foundation's
     a0: list = field(default_factory=list)
     v0: list = field(default_factory=list)
     influence: list = field(default_factory=list)
     el: list = field(default_factory=list)  # (i, j, third, lever, k, a1, c, law, par row or None)
-    face: dict = field(default_factory=dict)  # floor -> DOF a gap acts on
+    face: dict = field(default_factory=dict)  # (floor, LEFT or RIGHT) -> DOF a gap acts on (floor 0: the base)
     sensor: dict = field(default_factory=dict)  # floor -> {dof: weight}: the floor's output point
     deformation: dict = field(default_factory=dict)  # floor -> {dof: weight}: the storey below's deformation
     foundation: tuple | None = None  # (rocking DOF, sway DOF)
+    nodes: dict = field(default_factory=dict)  # floor -> list of its rod nodes' DOFs
+    storey_of: list = field(default_factory=list)  # per element: the floor whose storey spring it is (0: none)
+    body_mass: dict = field(default_factory=dict)  # floor -> its whole mass with attachments [kg]
 
 
-def building_layout(b, start: int, n_par: int) -> Layout:
-    """The DOFs (numbered from ``start``) and elements of building ``b``."""
+def building_layout(b, start: int, n_par: int, faces=(True, True)) -> Layout:
+    """The DOFs (numbered from ``start``) and elements of building ``b``.
+
+    ``faces``: whether the building has a neighbour on its left and on its right (where
+    a rod floor's attachments go).
+    """
     out = Layout()
     a0, a1 = b.rayleigh_coefficients()
     n = b.n_floors
@@ -51,8 +59,7 @@ def building_layout(b, start: int, n_par: int) -> Layout:
     else:
         codes, par = np.zeros(n, np.int64), None
     f = b.foundation
-    base = -1  # the DOF below the first storey (-1: the ground)
-    theta = -1
+    base, theta = -1, -1  # the DOF below the first storey (-1: the ground), the rocking DOF
     if f is not None:
         imp = f.impedances()
         theta, base = start, start + 1
@@ -61,26 +68,91 @@ def building_layout(b, start: int, n_par: int) -> Layout:
         out.el.append((base, -1, -1, 0.0, imp["sway_stiffness"], 0.0, imp["sway_damping"], 0, None))
         out.el.append((theta, -1, -1, 0.0, imp["rocking_stiffness"], 0.0, imp["rocking_damping"], 0, None))
         out.foundation = (theta, base)
-    first = start + len(out.mass)
+    out.face[(0, LEFT)] = out.face[(0, RIGHT)] = base
+    rod = b.floor_model
+    shares = np.ones(1) if rod is None else rod.node_shares()
     heights = np.concatenate([[0.0], b.floor_heights])
+    below_nodes = [base] * shares.size
     for k in range(n):
-        dof = first + k
-        _dof(out, b.floor_masses[k], FLOOR, k + 1, 0.0 if f is not None else a0, b.initial_velocity[k], 1.0)
-        below = dof - 1 if k > 0 else base
-        lever = -(heights[k + 1] - heights[k]) if f is not None else 0.0
-        out.el.append((dof, below, theta, lever, b.storey_stiffness[k], a1, 0.0, int(codes[k]),
-                       None if par is None else par[k]))
-        out.face[k + 1] = dof
-        out.sensor[k + 1] = {dof: 1.0}
-        deformation = {dof: 1.0}
-        if below >= 0:
-            deformation[below] = -1.0
+        m = b.floor_masses[k]
+        dz = heights[k + 1] - heights[k]
+        lever = -dz if f is not None else 0.0
+        att = {side: None for side in (LEFT, RIGHT)}
+        if rod is not None and rod.attachment is not None and faces[LEFT]:
+            att[LEFT] = _attachment(out, start, rod.attachment, k + 1, b.initial_velocity[k])
+        nodes = []
+        for p, share in enumerate(shares):
+            dof = start + len(out.mass)
+            nodes.append(dof)
+            _dof(out, m * share, FLOOR if rod is None else NODE, k + 1, 0.0 if f is not None else a0,
+                 b.initial_velocity[k], 1.0)
+            law_par = None if par is None else _scaled(par[k], int(codes[k]), share)
+            _pad_storeys(out)
+            out.el.append((dof, below_nodes[p], theta, lever, b.storey_stiffness[k] * share, a1, 0.0,
+                           int(codes[k]), law_par))
+            out.storey_of.append(k + 1)
+            if f is not None and a0:  # mass-proportional damping on the motion relative to the foundation
+                out.el.append((dof, base, theta, -heights[k + 1], 0.0, 0.0, a0 * m * share, 0, None))
+        if rod is not None:
+            ks = rod.segment_stiffness()
+            cs = 2.0 * rod.axial_damping / rod.first_axial_omega(m) * ks
+            for p in range(len(nodes) - 1):
+                out.el.append((nodes[p + 1], nodes[p], -1, 0.0, ks, 0.0, cs, 0, None))
+            for side, face_node in ((LEFT, nodes[0]), (RIGHT, nodes[-1])):
+                if att[side] is None and side == RIGHT and rod.attachment is not None and faces[RIGHT]:
+                    att[RIGHT] = _attachment(out, start, rod.attachment, k + 1, b.initial_velocity[k])
+                if att[side] is not None:
+                    a = rod.attachment
+                    out.el.append((att[side], face_node, -1, 0.0, a.joint_stiffness, 0.0, a.joint_damping, 0, None))
+        out.face[(k + 1, LEFT)] = att[LEFT] if att[LEFT] is not None else nodes[0]
+        out.face[(k + 1, RIGHT)] = att[RIGHT] if att[RIGHT] is not None else nodes[-1]
+        out.nodes[k + 1] = nodes
+        out.body_mass[k + 1] = m + sum(rod.attachment.mass for side in att if att[side] is not None)
+        out.sensor[k + 1] = _sensor(rod, nodes, att)
+        deformation = {}
+        for p, share in enumerate(shares):  # the mass-weighted mean of the node springs' deformations
+            deformation[nodes[p]] = deformation.get(nodes[p], 0.0) + share
+            if below_nodes[p] >= 0:
+                deformation[below_nodes[p]] = deformation.get(below_nodes[p], 0.0) - share
         if f is not None:
             deformation[theta] = lever
-            if a0:  # mass-proportional damping on the motion relative to the foundation
-                out.el.append((dof, base, theta, -heights[k + 1], 0.0, 0.0, a0 * b.floor_masses[k], 0, None))
         out.deformation[k + 1] = deformation
+        below_nodes = nodes
+    _pad_storeys(out)
     return out
+
+
+def _pad_storeys(out):
+    """storey_of for every element appended without one (foundation, dampers, rods, joints): 0."""
+    out.storey_of += [0] * (len(out.el) - len(out.storey_of))
+
+
+def _attachment(out, start, a, floor, v0):
+    dof = start + len(out.mass)
+    _dof(out, a.mass, ATTACHMENT, floor, 0.0, v0, 1.0)
+    return dof
+
+
+def _sensor(rod, nodes, att):
+    if rod is None:
+        return {nodes[0]: 1.0}
+    if rod.sensor == "attachment":
+        dof = att[RIGHT] if att[RIGHT] is not None else att[LEFT]
+        return {dof: 1.0}
+    return {nodes[p]: w for p, w in rod.sensor_weights().items()}
+
+
+def _scaled(row, code, share):
+    """A hysteretic storey law's parameters for a node carrying ``share`` of the floor: stiffness and yield
+    force scale, the yield drift stays (so a rigid floor reproduces the lumped storey)."""
+    from ..storey import codes as C
+
+    row = np.array(row, float)
+    if code == C.BILINEAR:
+        row[[C.B_K, C.B_FY]] *= share
+    elif code == C.BOUC_WEN:
+        row[C.BW_K] *= share
+    return row
 
 
 def _dof(out, mass, kind, floor, a0, v0, influence):

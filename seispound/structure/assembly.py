@@ -314,7 +314,9 @@ class FloorOutputs:
     Attributes: building, floor (no,) of each output; sensor (no, n): the floor's output point
     (displacement, velocity, acceleration = sensor @ DOF values); deformation (no, n): the
     storey below's deformation (drift); single (no,): the DOF of a sensor that is one DOF with
-    weight 1, else -1; foundation (nb, 2): the rocking and sway DOF of each building (-1: none).
+    weight 1, else -1; foundation (nb, 2): the rocking and sway DOF of each building (-1: none);
+    storey_output (ne,): the output whose storey each element is a spring of (-1: none); nodes:
+    per output, the DOFs of its rod's nodes (left to right; empty for a lumped floor).
     """
 
     building: np.ndarray
@@ -323,17 +325,19 @@ class FloorOutputs:
     deformation: np.ndarray
     single: np.ndarray
     foundation: np.ndarray
+    storey_output: np.ndarray = None  # (ne,) the output whose storey an element is a spring of (-1: none)
+    nodes: list = None  # per output: its rod nodes' DOFs (empty for a lumped floor)
 
 
 def assemble(buildings, gaps, default_law=None) -> SystemArrays:
     """Flatten ``buildings`` (left to right) and ``gaps`` into :class:`SystemArrays`."""
-    from ._layout import building_layout
+    from ._layout import LEFT, RIGHT, building_layout
 
     layouts, first = [], []
     n = 0
-    for b in buildings:
+    for i, b in enumerate(buildings):
         first.append(n)
-        lay = building_layout(b, n, S.N_PAR)
+        lay = building_layout(b, n, S.N_PAR, faces=(i > 0, i < len(buildings) - 1))
         layouts.append(lay)
         n += len(lay.mass)
     cat = lambda name, dtype=float: np.asarray([x for lay in layouts for x in getattr(lay, name)], dtype)  # noqa
@@ -344,11 +348,21 @@ def assemble(buildings, gaps, default_law=None) -> SystemArrays:
     for g_idx, gap in enumerate(gaps):
         links.extend(expand_gap(gap, g_idx, buildings, default_law))
     ng = len(links)
-    gap_i = np.array([layouts[l.left].face[l.left_floor] for l in links], dtype=np.int64)
-    gap_j = np.array([layouts[l.right].face[l.right_floor] for l in links], dtype=np.int64)
+    # a gap acts on the left building's right face and the right building's left face
+    gap_i = np.array([layouts[l.left].face[(l.left_floor, RIGHT)] for l in links], dtype=np.int64)
+    gap_j = np.array([layouts[l.right].face[(l.right_floor, LEFT)] for l in links], dtype=np.int64)
+    sides = [(_side(layouts[l.left], l.left_floor, RIGHT, l.left_weight, mass),
+              _side(layouts[l.right], l.right_floor, LEFT, l.right_weight, mass)) for l in links]
     gap_par = np.zeros((ng, S.N_PAR))
     for g, l in enumerate(links):
-        gap_par[g] = l.law.kernel_params(mass[gap_i[g]], mass[gap_j[g]])
+        gap_par[g] = l.law.kernel_params(sides[g][0][2], sides[g][1][2])
+    gap_dofs = gap_coefs = None
+    if any(l.kind != "floor-to-floor" for l in links):  # some side is struck on a storey: interpolated
+        gap_dofs = np.full((ng, 4), -1, np.int64)
+        gap_coefs = np.zeros((ng, 4))
+        for g, ((dl, cl, _), (dr, cr, _)) in enumerate(sides):
+            gap_dofs[g] = dl + dr
+            gap_coefs[g] = cl + [-c for c in cr]
     el_i = np.array([e[0] for e in els], np.int64)
     el_j = np.array([e[1] for e in els], np.int64)
     coupled = el_j >= 0
@@ -378,6 +392,8 @@ def assemble(buildings, gaps, default_law=None) -> SystemArrays:
         gap_par=gap_par,
         links=links,
         el_c=el_c if np.any(el_c) else None,
+        gap_dofs=gap_dofs,
+        gap_coefs=gap_coefs,
         dof_influence=None if plain else cat("influence"),
         el_law=el_law if np.any(el_law) else None,
         el_par=np.array([np.zeros(S.N_PAR) if e[8] is None else e[8] for e in els], float) if np.any(el_law)
@@ -385,12 +401,36 @@ def assemble(buildings, gaps, default_law=None) -> SystemArrays:
         el_third=el_third if np.any(el_third >= 0) else None,
         el_lever=np.array([e[3] for e in els], float) if np.any(el_third >= 0) else None,
         dof_kind=kind,
-        outputs=None if plain else _floor_outputs(layouts, n),
+        outputs=None if plain else _floor_outputs(layouts, n, buildings),
     )
 
 
-def _floor_outputs(layouts, n) -> FloorOutputs:
+def _side(layout, floor, face, weight, mass):
+    """One side of a gap: two (dof, coefficient) slots and its apparent mass [kg].
+
+    A floor: its face DOF (a rod's end node or its attachment), with the floor's whole mass
+    (attachments included: the contact law's damping from e is a two-body law, so a rod
+    floor and the lumped floor it refines get the same).  A storey: (1 - w) u_below + w u_floor;
+    an impulse there moves the point by (1 - w)^2 / m_below + w^2 / m_floor per unit, so the
+    apparent mass is the reciprocal (the ground below a first storey: infinite mass, no DOF;
+    a foundation: its mass).
+    """
+    top = layout.face[(floor, face)]
+    m_top = layout.body_mass[floor]
+    if weight == 1.0:
+        return [top, -1], [1.0, 0.0], m_top
+    below = layout.face[(floor - 1, face)]
+    m_below = layout.body_mass.get(floor - 1, mass[below] if below >= 0 else np.inf)
+    flex = weight ** 2 / m_top + (1.0 - weight) ** 2 / m_below
+    return [below, top], [1.0 - weight if below >= 0 else 0.0, weight], 1.0 / flex
+
+
+def _floor_outputs(layouts, n, buildings) -> FloorOutputs:
     rows = [(i, fl, lay.sensor[fl], lay.deformation[fl]) for i, lay in enumerate(layouts) for fl in sorted(lay.sensor)]
+    row_of = {(i, fl): r for r, (i, fl, _, _) in enumerate(rows)}
+    storey_output = np.array([row_of[(i, fl)] if fl else -1 for i, lay in enumerate(layouts) for fl in lay.storey_of],
+                             np.int64)
+    nodes = [layouts[i].nodes[fl] if buildings[i].floor_model is not None else [] for i, fl, _, _ in rows]
     no = len(rows)
     sensor, deformation = np.zeros((no, n)), np.zeros((no, n))
     single = np.full(no, -1, np.int64)
@@ -403,4 +443,5 @@ def _floor_outputs(layouts, n) -> FloorOutputs:
             single[r] = next(iter(sen))
     fnd = np.array([lay.foundation or (-1, -1) for lay in layouts], np.int64).reshape(-1, 2)
     return FloorOutputs(building=np.array([r[0] for r in rows], np.int64), floor=np.array([r[1] for r in rows], np.int64),
-                        sensor=sensor, deformation=deformation, single=single, foundation=fnd)
+                        sensor=sensor, deformation=deformation, single=single, foundation=fnd,
+                        storey_output=storey_output, nodes=nodes)

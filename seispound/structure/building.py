@@ -64,6 +64,9 @@ class Building:
         bilinear or Bouc-Wen, per building or per storey); None: elastic.
         ``storey_stiffness`` is then the initial stiffness, and the Rayleigh
         damping is computed from it.
+    floor_model : RodFloor, optional
+        Every floor as an axial rod along the line of impact (:class:`seispound.floor.RodFloor`),
+        with an optional attachment on each face toward a neighbour; None: lumped floors.
     foundation : Foundation, optional
         A rigid foundation that sways and rocks on the soil
         (:class:`seispound.foundation.Foundation`); None: a fixed base.  The
@@ -80,6 +83,7 @@ class Building:
     ground_motion: object = None
     storey_law: object = None
     foundation: object = None
+    floor_model: object = None
 
     def __post_init__(self):
         self.validate()
@@ -127,6 +131,12 @@ class Building:
             if not isinstance(self.foundation, Foundation):
                 raise InputError("must be a Foundation", key=f"{key}.foundation")
             self.foundation.validate(n, f"{key}.foundation")
+        if self.floor_model is not None:
+            from ..floor import RodFloor
+
+            if not isinstance(self.floor_model, RodFloor):
+                raise InputError("must be a RodFloor", key=f"{key}.floor_model")
+            self.floor_model.validate(f"{key}.floor_model")
         d = self.damping
         if isinstance(d, RayleighDamping):
             if not (isinstance(d.ratio, (int, float)) and 0.0 <= d.ratio < 1.0):

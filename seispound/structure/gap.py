@@ -26,15 +26,23 @@ class Gap:
     between : (str, str)
         Names of two buildings that are neighbours in the row (either order).
     size : float or sequence of float
-        At-rest separation [m], >= 0 (0 = touching); one value for every common
-        level, or one per common level from the ground up.
+        At-rest separation [m], >= 0 (0 = touching); one value for every gap
+        element, or one per element from the ground up.
     law : ContactLaw, optional
         Law for this gap; defaults to the model's ``[contact]`` law.
+    levels : {"lower", "floors", "all"}
+        Where gap elements are: "lower" (default), every floor of the lower
+        neighbour (the one with the lower roof) against whatever it faces, a
+        floor at the same level or the storey (columns) between two floors;
+        "floors", only floors at a common level; "all", every floor of either
+        building up to the lower roof against whatever it faces (also the
+        default when the two roofs are level).
     """
 
     between: tuple
     size: object
     law: object = None
+    levels: str = "lower"
 
 
 @dataclass(frozen=True)
@@ -46,7 +54,7 @@ class GapLink:
     left, right : int
         Indices of the buildings in the row (left < right).
     left_floor, right_floor : int
-        1-based floor numbers.
+        1-based floor numbers; for a side struck on a storey, the floor above the point.
     height : float
         Elevation of the level [m].
     size : float
@@ -54,6 +62,10 @@ class GapLink:
     law : ContactLaw
     gap_index : int
         Index of the :class:`Gap` this element came from.
+    left_weight, right_weight : float
+        1 for a floor; for a storey, the point's height above the floor below as a
+        fraction of the storey height: its displacement is (1 - w) u_below + w u_floor
+        (linear interpolation of the columns between the two floors).
     """
 
     left: int
@@ -64,6 +76,13 @@ class GapLink:
     size: float
     law: object
     gap_index: int
+    left_weight: float = 1.0
+    right_weight: float = 1.0
+
+    @property
+    def kind(self) -> str:
+        """"floor-to-floor" or "floor-to-storey"."""
+        return "floor-to-floor" if self.left_weight == 1.0 and self.right_weight == 1.0 else "floor-to-storey"
 
 
 def expand_gap(gap: Gap, gap_index: int, buildings, default_law, key: str | None = None) -> list[GapLink]:
@@ -87,15 +106,16 @@ def expand_gap(gap: Gap, gap_index: int, buildings, default_law, key: str | None
                          f"({', '.join(names)}); pounding links only adjacent buildings",
                          key=f"{key}.between")
     a, b = buildings[i], buildings[j]
-    ha, hb = a.floor_heights, b.floor_heights
-    levels = [(fa, fb, ha[fa]) for fa in range(ha.size) for fb in range(hb.size)
-              if abs(ha[fa] - hb[fb]) <= HEIGHT_TOLERANCE]
+    if gap.levels not in LEVELS:
+        raise InputError(f"must be one of {', '.join(repr(x) for x in LEVELS)}, got {gap.levels!r}",
+                         key=f"{key}.levels")
+    levels = gap_levels(a.floor_heights, b.floor_heights, gap.levels)
     if not levels:
         raise InputError(f"{a.name} and {b.name} have no floor at a common level", key=f"{key}.between")
     sizes = number_array(gap.size, f"{key}.size")
     if sizes.size not in (1, len(levels)):
-        raise InputError(f"give one size or {len(levels)} (one per common level), got {sizes.size}",
-                         key=f"{key}.size")
+        raise InputError(f"give one size or {len(levels)} (one per gap element from the ground up), got "
+                         f"{sizes.size}", key=f"{key}.size")
     if not np.all(np.isfinite(sizes)):
         raise InputError("must be finite", key=f"{key}.size")
     if np.any(sizes < 0):
@@ -106,5 +126,47 @@ def expand_gap(gap: Gap, gap_index: int, buildings, default_law, key: str | None
     if law is None:
         raise InputError("no contact law given (set [contact] law or the gap's own law)", key=f"{key}.law")
     law.validate(key=f"{key}" if gap.law is not None else "contact")
-    return [GapLink(i, j, fa + 1, fb + 1, float(h), float(s), law, gap_index)
-            for (fa, fb, h), s in zip(levels, sizes)]
+    return [GapLink(i, j, fa, fb, float(h), float(s), law, gap_index, wa, wb)
+            for (fa, wa, fb, wb, h), s in zip(levels, sizes)]
+
+
+LEVELS = ("lower", "floors", "all")
+
+
+def _facing(heights, h):
+    """What a point at height h faces on a building with floor elevations ``heights``: (floor, weight).
+
+    A floor within HEIGHT_TOLERANCE: (its 1-based number, 1.0); else the storey below the
+    first floor above h: (that floor, fraction of the storey height from the floor below).
+    """
+    k = int(np.searchsorted(heights, h - HEIGHT_TOLERANCE))  # first floor at or above h
+    if abs(heights[k] - h) <= HEIGHT_TOLERANCE:
+        return k + 1, 1.0
+    below = heights[k - 1] if k > 0 else 0.0
+    return k + 1, float((h - below) / (heights[k] - below))
+
+
+def gap_levels(ha, hb, levels="lower") -> list:
+    """Gap elements between buildings with floor elevations ha (left) and hb (right), from the ground up.
+
+    Returns (left floor, left weight, right floor, right weight, height) per element
+    (``GapLink``'s convention); see :class:`Gap` for ``levels``.
+    """
+    top = min(ha[-1], hb[-1]) + HEIGHT_TOLERANCE
+    common = [h for h in ha if np.min(np.abs(hb - h)) <= HEIGHT_TOLERANCE]
+    equal_roofs = abs(ha[-1] - hb[-1]) <= HEIGHT_TOLERANCE  # neither is the lower: both count
+    if levels == "floors":
+        heights = common
+    elif levels == "all" or equal_roofs:
+        heights = sorted(set([h for h in ha if h <= top]) | set([h for h in hb if h <= top]))
+    else:
+        lower = ha if ha[-1] <= hb[-1] else hb
+        heights = list(lower)
+    out = []
+    for h in heights:
+        if out and abs(h - out[-1][4]) <= HEIGHT_TOLERANCE:
+            continue  # a floor of both, listed once
+        fa, wa = _facing(ha, h)
+        fb, wb = _facing(hb, h)
+        out.append((fa, wa, fb, wb, float(h)))
+    return out

@@ -122,12 +122,17 @@ def test_building_validation(kw, key):
 def test_gaps_only_at_common_levels():
     a = Building("A", [1e5] * 4, [1e8] * 4, [3.0, 3.0, 3.0, 3.0])  # floors at 3, 6, 9, 12 m
     b = Building("B", [1e5] * 3, [1e8] * 3, [3.0, 3.0, 6.0])  # floors at 3, 6, 12 m
-    links = expand_gap(Gap(("A", "B"), 0.05), 0, [a, b], Hd(2.75e9, 0.65))
+    links = expand_gap(Gap(("A", "B"), 0.05, levels="floors"), 0, [a, b], Hd(2.75e9, 0.65))
     # common levels: 3 m (A1-B1), 6 m (A2-B2), 12 m (A4-B3); A3 at 9 m has no partner
     assert [(l.left_floor, l.right_floor, l.height) for l in links] == [(1, 1, 3.0), (2, 2, 6.0), (4, 3, 12.0)]
+    # by default (level roofs: every floor of both) A3 strikes B's third storey half way up
+    default = expand_gap(Gap(("A", "B"), 0.05), 0, [a, b], Hd(2.75e9, 0.65))
+    assert [(l.left_floor, l.right_floor, l.right_weight, l.kind) for l in default] == [
+        (1, 1, 1.0, "floor-to-floor"), (2, 2, 1.0, "floor-to-floor"), (3, 3, 0.5, "floor-to-storey"),
+        (4, 3, 1.0, "floor-to-floor")]
     assert all(l.size == 0.05 and (l.left, l.right) == (0, 1) and l.gap_index == 0 for l in links)
     # either order of the pair gives the same elements
-    rev = expand_gap(Gap(("B", "A"), 0.05), 0, [a, b], Hd(2.75e9, 0.65))
+    rev = expand_gap(Gap(("B", "A"), 0.05, levels="floors"), 0, [a, b], Hd(2.75e9, 0.65))
     assert [(l.left_floor, l.right_floor) for l in rev] == [(1, 1), (2, 2), (4, 3)]
 
 
@@ -137,18 +142,22 @@ def test_levels_match_within_tolerance_only():
     c = Building("C", [1.0] * 2, [1.0] * 2, [3.001, 3.0])  # 1 mm apart: different levels
     assert len(expand_gap(Gap(("A", "B"), 0.0), 0, [a, b], Hd(1.0, 0.5))) == 2
     with pytest.raises(InputError) as info:
-        expand_gap(Gap(("A", "C"), 0.0), 0, [a, c], Hd(1.0, 0.5))
+        expand_gap(Gap(("A", "C"), 0.0, levels="floors"), 0, [a, c], Hd(1.0, 0.5))
     assert info.value.key == "gap.1.between"
+    # by default A's floors (the lower roof) strike C's storeys just below C's floors
+    links = expand_gap(Gap(("A", "C"), 0.0), 0, [a, c], Hd(1.0, 0.5))
+    assert [l.kind for l in links] == ["floor-to-storey"] * 2
+    assert links[0].right_weight == pytest.approx(3.0 / 3.001)
 
 
 def test_size_list_per_level():
     a = Building("A", [1e5] * 4, [1e8] * 4, [3.0] * 4)
     b = Building("B", [1e5] * 3, [1e8] * 3, [3.0, 3.0, 6.0])
-    links = expand_gap(Gap(("A", "B"), [0.01, 0.02, 0.04]), 2, [a, b], Hd(2.75e9, 0.65))
+    links = expand_gap(Gap(("A", "B"), [0.01, 0.02, 0.04], levels="floors"), 2, [a, b], Hd(2.75e9, 0.65))
     assert [l.size for l in links] == [0.01, 0.02, 0.04]
     assert all(l.gap_index == 2 for l in links)
     with pytest.raises(InputError) as info:
-        expand_gap(Gap(("A", "B"), [0.01, 0.02]), 2, [a, b], Hd(2.75e9, 0.65))
+        expand_gap(Gap(("A", "B"), [0.01, 0.02], levels="floors"), 2, [a, b], Hd(2.75e9, 0.65))
     assert info.value.key == "gap.3.size" and "3" in info.value.message
 
 

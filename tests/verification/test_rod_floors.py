@@ -1,0 +1,119 @@
+"""Distributed-mass floors and bodies (axial rods) against closed forms.
+
+* the first free-free axial frequency c / 2L (c = sqrt(EA L / m)) and its O(1/N^2) convergence;
+* Saint-Venant's impact of two elastic rods (Goldsmith 1960, Impact, Sec. 3.3; Graff 1975, Wave Motion in
+  Elastic Solids, Sec. 2.4): equal rods stay in contact 2L/c at the force rho c A v0 / 2 and exchange
+  their velocities (e = 1); a short rod striking a long one (same material and section) leaves the long one
+  with the mean velocity v0 L_short / L_long and itself at rest (e = L_short / L_long), after 2 L_short / c;
+* the lumped limit: a very stiff rod floor moves as the lumped floor;
+* an attachment on a joint: the free-free two-mass mode omega^2 = k_j (1/m + 1/m_a).
+"""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.linalg import eigh
+
+from seispound.contact import make_law
+from seispound.floor import Attachment, RodFloor
+from seispound.integrate import integrate
+from seispound.structure import Building, Gap, NoDamping, RayleighDamping, assemble
+from tests.verification._helpers import el_centro
+
+MASS_PER_LENGTH, EA = 100.0, 1e8  # kg/m, N: c = 1000 m/s
+C = math.sqrt(EA / MASS_PER_LENGTH)
+
+
+def _body(name, length, segments, v0=0.0, attachment=None):
+    """A free body: one 'storey' of 1 N/m (a pendulum's restoring force is negligible over an impact)."""
+    rod = RodFloor(segments=segments, length=length, axial_stiffness=EA, attachment=attachment)
+    return Building(name, [MASS_PER_LENGTH * length], [1.0], [1.0], NoDamping(), initial_velocity=v0,
+                    floor_model=rod)
+
+
+def test_first_axial_frequency_converges_to_c_over_2L():
+    errs = []
+    for n in (4, 8, 16, 32):
+        M, _, K = assemble([_body("A", 1.0, n)], []).matrices()
+        w = np.sqrt(np.abs(eigh(K, M, eigvals_only=True)))
+        errs.append(w[1] / (2 * math.pi) / (C / 2.0) - 1)
+    print("MEASURED first axial frequency against c/2L, N = 4, 8, 16, 32:", ", ".join(f"{e:+.1e}" for e in errs))
+    assert abs(errs[-1]) <= 5e-4
+    assert all(3.9 <= errs[k] / errs[k + 1] <= 4.1 for k in range(3))  # O(1/N^2), from below
+    assert all(e < 0 for e in errs)
+
+
+def _impact(l1, l2, n1, n2, v0=0.1, dt=1e-5):
+    """Rod 1 (left) at v0 strikes rod 2 at rest; the contact spring equals one segment (EA N / L): the
+    interface is one more segment, so the discrete rods do not chatter."""
+    law = make_law("LVe", stiffness=EA * n1 / l1, restitution=1.0)
+    system = assemble([_body("A", l1, n1, v0), _body("B", l2, n2)], [Gap(("A", "B"), 1e-9, law)])
+    nsteps = int(round(3.0 * l2 / C / dt))
+    raw = integrate(system, np.zeros(nsteps + 1), dt, nsteps)
+    b = system.dof_building
+    v = raw.velocity[-1]
+    V = [float(system.mass[b == k] @ v[b == k] / system.mass[b == k].sum()) for k in (0, 1)]
+    imp = raw.impacts
+    episode = float(imp["t0"][-1] + imp["dur"][-1] - imp["t0"][0])
+    mid = (raw.time > imp["t0"][0] + 0.2 * episode) & (raw.time < imp["t0"][0] + 0.8 * episode)
+    return dict(e=(V[1] - V[0]) / v0, V=V, duration=episode, force=float(raw.force[mid, 0].mean()), n=imp["t0"].size)
+
+
+@pytest.mark.parametrize("n", [100, 200])
+def test_saint_venant_equal_rods(n):
+    got = _impact(1.0, 1.0, n, n)
+    plateau = MASS_PER_LENGTH * C * 0.1 / 2  # rho c A v0 / 2
+    print(f"MEASURED equal rods, N = {n}: contact {got['duration'] / (2.0 / C) - 1:+.2%} of 2L/c, mean force "
+          f"{got['force'] / plateau - 1:+.2%} of rho c A v0/2, e = {got['e']:.4f} (1), {got['n']} contact(s)")
+    assert abs(got["duration"] / (2.0 / C) - 1) <= 0.01
+    assert abs(got["force"] / plateau - 1) <= 0.01
+    assert abs(got["e"] - 1) <= 0.015
+    assert abs(got["V"][0]) <= 0.015 * 0.1  # the striker stops
+
+
+def test_saint_venant_short_rod_strikes_long_one():
+    got = [_impact(0.5, 1.0, n, 2 * n) for n in (50, 100, 200)]
+    errs = [g["e"] / 0.5 - 1 for g in got]
+    print("MEASURED short on long rod, N_short = 50, 100, 200: e against L_short/L_long "
+          + ", ".join(f"{e:+.2%}" for e in errs) + f"; contact {got[-1]['duration'] / (1.0 / C) - 1:+.2%} of "
+          "2 L_short / c")
+    assert abs(errs[-1]) <= 0.015
+    assert abs(errs[2]) < abs(errs[1]) < abs(errs[0])  # converging
+    assert abs(got[-1]["duration"] / (1.0 / C) - 1) <= 0.025
+
+
+def test_stiff_rod_floors_move_as_lumped_floors():
+    dt, (ag, nsteps) = 0.005, el_centro(6.0, 0.005)
+    law = make_law("Hd", stiffness=2.75e9, restitution=0.65)
+
+    def row(rod):
+        a = Building("A", [1e5] * 4, [1.3092e8] * 4, [3.0] * 4, RayleighDamping(0.05, (1, 2)), floor_model=rod)
+        b = Building("B", [1e5] * 8, [1.1593e8] * 8, [3.0] * 8, RayleighDamping(0.05, (1, 2)))
+        return assemble([a, b], [Gap(("A", "B"), 0.02, law)])
+
+    lumped = integrate(row(None), ag, dt, nsteps, driver="general")
+    rod = row(RodFloor(segments=4, length=20.0, axial_stiffness=1e15))  # axial modes above 100 kHz
+    stiff = integrate(rod, ag, dt, nsteps)
+    u = stiff.displacement @ rod.outputs.sensor.T
+    err = float(np.abs(u - lumped.displacement).max() / np.abs(lumped.displacement).max())
+    df = float(abs(stiff.peak_force.max() / lumped.peak_force.max() - 1))
+    print(f"MEASURED stiff rod floors against lumped ones: displacement {err:.1e}, peak force {df:.1e}")
+    assert err <= 1e-4 and df <= 1e-3
+
+
+def test_attachment_joint_mode():
+    m_a, k_j = 15.0, 2e6
+    body = Building("A", [400.0], [1.0], [1.0], NoDamping(),
+                    floor_model=RodFloor(segments=1, length=1.0, axial_stiffness=1e14,
+                                         attachment=Attachment(mass=m_a, joint_stiffness=k_j)))
+    other = Building("B", [400.0], [1.0], [1.0], NoDamping())
+    system = assemble([body, other], [Gap(("A", "B"), 0.01, make_law("Hd", stiffness=1e9, restitution=0.8))])
+    M, _, K = system.matrices()
+    w2 = np.sort(eigh(K, M, eigvals_only=True))
+    exact = k_j * (1 / 400.0 + 1 / m_a)
+    joint = w2[np.argmin(np.abs(w2 - exact))]
+    print(f"MEASURED joint mode: {joint / exact - 1:+.1e} of k_j (1/m + 1/m_a)")
+    assert abs(joint / exact - 1) <= 1e-6
+    # the gap acts on the attachment (the right face faces B), with the whole body's mass in the law
+    assert system.gap_i[0] == int(np.flatnonzero(system.dof_kind == 4)[0])

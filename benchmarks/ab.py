@@ -1,6 +1,6 @@
 """Same-process A/B timing of the integrator against an earlier commit.
 
-``python -m benchmarks.ab REF [--model models/row_of_three.toml] [--repeat 7]``
+``python -m benchmarks.ab REF [--model models/row_of_three.toml] [--repeat 7] [--simulate]``
 
 The package as it was at git ``REF`` is exported to a temporary folder under the
 name ``seispound_ref`` (its absolute ``seispound.`` imports rewritten) and
@@ -60,11 +60,19 @@ def _runner(pkg, model_path, scheme=None):
             lambda: integrate(twin, ag, an.dt, an.nsteps, an.newmark, **kw))
 
 
+def _simulate_runner(pkg, model_path):
+    """The whole path a user calls: ``simulate(model)`` (with its twin) and ``simulate(model, twin=False)``."""
+    model = pkg.load_model(model_path)
+    return (lambda: pkg.simulate(model), lambda: pkg.simulate(model, twin=False))
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("ref", help="git commit or branch to compare against")
     ap.add_argument("--model", default=str(REPO / "models" / "row_of_three.toml"))
     ap.add_argument("--repeat", type=int, default=7)
+    ap.add_argument("--simulate", action="store_true",
+                    help="time the whole simulate(model) (with and without its twin) instead of integrate()")
     ap.add_argument("--scheme", choices=("exact", "newmark"),
                     help="integration scheme of both sides (REF's only if it has schemes; default: each default)")
     args = ap.parse_args(argv)
@@ -76,10 +84,14 @@ def main(argv=None) -> int:
         # the scheme goes to REF too when its integrate() knows it (older commits are Newmark throughout)
         ref_integrate = importlib.import_module("seispound_ref.integrate").integrate
         ref_knows = "scheme" in inspect.signature(ref_integrate).parameters
-        runs = {"ref": _runner(ref, args.model, args.scheme if ref_knows else None),
-                "new": _runner(new, args.model, args.scheme)}
+        if args.simulate:
+            runs = {"ref": _simulate_runner(ref, args.model), "new": _simulate_runner(new, args.model)}
+        else:
+            runs = {"ref": _runner(ref, args.model, args.scheme if ref_knows else None),
+                    "new": _runner(new, args.model, args.scheme)}
         out = {name: (pound(), twin()) for name, (pound, twin) in runs.items()}  # compile, and compare
-        diff = float(np.max(np.abs(out["new"][0].displacement - out["ref"][0].displacement)))
+        u = [out[k][0]["displacement"].values if args.simulate else out[k][0].displacement for k in ("new", "ref")]
+        diff = float(np.nanmax(np.abs(u[0] - u[1])))
         times = {(name, part): [] for name in runs for part in (0, 1)}
         for _ in range(args.repeat):
             for name, fns in runs.items():
@@ -88,7 +100,8 @@ def main(argv=None) -> int:
                     fn()
                     times[name, part].append(time.perf_counter() - t0)
     print(f"model {args.model}; medians of {args.repeat}, alternating, one process")
-    for part, label in enumerate(("pounding run", "no-pounding twin")):
+    labels = ("simulate(model)", "simulate(twin=False)") if args.simulate else ("pounding run", "no-pounding twin")
+    for part, label in enumerate(labels):
         r = statistics.median(times["ref", part])
         n = statistics.median(times["new", part])
         print(f"  {label:17s} {args.ref}: {1e3 * r:8.2f} ms   working tree: {1e3 * n:8.2f} ms   ratio {n / r:.3f}")

@@ -45,7 +45,7 @@ import numpy as np
 from numba import njit
 
 from ..contact.codes import NIVE
-from ._contact import ONSET_GRADING, _begin_impact, _end_impact
+from ._contact import ONSET_GRADING, _begin_impact, _end_impact, _group_contacts
 from ._elements import _dot, _scatter, assemble_band, kinetic_energy, linear_forces, mass_times, strain_energy
 from ._events import LAND_TOL, _event_in_step
 from ._ground import GU0, GU1, GV0, GV1, _gap_ground_accept, _gap_ground_all, _ground_all
@@ -124,34 +124,39 @@ def _predictor(h, beta, gamma, Lf, p, lin, dof_load, dof_motion, g1, u, v, a, Vv
 
 
 @njit(cache=True)
-def _columns(Lf, p, ne_dof, ne_coef, act, m, W, W_ok):
-    """W[q] = A^-1 b_q for the active elements that lack it under the current factor."""
+def _columns(Lf, p, ne_dof, ne_coef, ne_lo, ne_hi, act, m, W, W_ok):
+    """W[q] = A^-1 b_q for the active elements that lack it under the current factor.
+
+    A is block diagonal over the buildings, so the column is nonzero only on the DOFs
+    ne_lo[q]..ne_hi[q]-1 of the buildings element q links (zero elsewhere from the start).
+    """
     for k in range(m):
         q = act[k]
         if W_ok[q]:
             continue
-        for i in range(W.shape[1]):
+        for i in range(ne_lo[q], ne_hi[q]):
             W[q, i] = 0.0
         _scatter(ne_dof, ne_coef, q, 1.0, W[q])
-        _solve_range(Lf, p, W[q], W[q], 0, W.shape[1])
+        _solve_range(Lf, p, W[q], W[q], ne_lo[q], ne_hi[q])
         W_ok[q] = True
 
 
 @njit(cache=True)
-def _newton(m, act, Gm, dl, rl, Fm, cc, ne_code, ne_par, st_c, st_t, scale, rtol, max_iter, resv, kt, Sm, ym):
-    """Newton-Raphson on the forces Fm[:m] of the active elements (module docstring).
+def _newton(lo, hi, act, Gm, dl, rl, Fm, cc, ne_code, ne_par, st_c, st_t, scale, rtol, max_iter, resv, kt, Sm, ym):
+    """Newton-Raphson on the forces Fm[lo:hi] of one group of active elements (module docstring).
 
     Each element's law is evaluated by ``material_trial`` from its committed
     state st_c into st_t.  Returns (converged, iterations beyond the first evaluation).
     """
+    m = hi - lo
     it = 0
     while True:
         rn = 0.0
         sc = scale
-        for k in range(m):
+        for k in range(lo, hi):
             q = act[k]
             s1 = 0.0
-            for r in range(m):
+            for r in range(lo, hi):
                 s1 += Gm[k, r] * Fm[r]
             f, dfd, dfv = material_trial(ne_code[q], ne_par[q], st_c[q], st_t[q], dl[k] - s1, rl[k] - cc * s1)
             resv[k] = Fm[k] - f
@@ -163,14 +168,14 @@ def _newton(m, act, Gm, dl, rl, Fm, cc, ne_code, ne_par, st_c, st_t, scale, rtol
         if it >= max_iter:
             return False, it
         it += 1
-        for k in range(m):
-            for r in range(m):
-                Sm[k, r] = kt[k] * Gm[k, r]
-            Sm[k, k] += 1.0
-            ym[k] = -resv[k]
+        for k in range(lo, hi):
+            for r in range(lo, hi):
+                Sm[k - lo, r - lo] = kt[k] * Gm[k, r]
+            Sm[k - lo, k - lo] += 1.0
+            ym[k - lo] = -resv[k]
         _dense_solve(m, Sm, ym)
-        for k in range(m):
-            Fm[k] += ym[k]
+        for k in range(lo, hi):
+            Fm[k] += ym[k - lo]
 
 
 @njit(cache=True)
@@ -209,7 +214,7 @@ def _screen(ne_gap, active, d0, r0, d1, r1, h, landed, target, land_too):
 
 @njit(cache=True)
 def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, dof_load, dof_motion, dof_infl,
-                   ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, state0, ag, moving, ne_ground,
+                   ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi, state0, ag, moving, ne_ground,
                    u_init, v_init, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store,
                    out_u, out_v, out_a, out_f, out_e, umax, fmax,
                    imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e, stats):
@@ -222,7 +227,10 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     unit ground acceleration of row dof_motion (n,); dof_infl (n,): iota;
     ne_* : elements with state (nn, 4) / (nn,) / (nn, N_PAR), ne_gap (nn,)
     True for a gap (events, active only while closed), False for a storey
-    (always active); state0 (nn, N_STATE) their initial committed state;
+    (always active); ne_lo, ne_hi (nn,): the DOF range of the buildings each
+    element links (A is block diagonal over buildings: elements whose ranges do
+    not overlap are uncoupled, and Newton runs per group, ``_group_contacts``);
+    state0 (nn, N_STATE) their initial committed state;
     ag (nm, nt) [m/s^2]; ne_ground (3, nn, nt): each element's differential
     ground acceleration, velocity and displacement (used when ``moving``);
     outputs as ``_kernel.integrate_kernel`` (out_f (nt, nn): every element's
@@ -260,6 +268,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     h_W = -1.0
     h_scr = -1.0
     act = np.empty(nw, np.int64)  # active elements: every storey, the closed gaps
+    comp_off = np.empty(nw + 1, np.int64)  # ... in groups that share no building
     Gm = np.empty((nw, nw))
     Sm = np.empty((nw, nw))
     ym = np.empty(nw)
@@ -317,6 +326,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
             m_act += 1
             F[q] = material_trial(ne_code[q], ne_par[q], st_c[q], st_t[q], d0[q], r0[q])[0]
             material_commit(st_c[q], st_t[q])
+    n_comp = _group_contacts(m_act, act, ne_lo, ne_hi, comp_off)
     _ground_all(ag, t, dt, g_t)
     _acceleration(LM, p, lin, dof_load, dof_motion, g_t, u, v, ne_dof, ne_coef, F, flin, a)
     es_lin0 = strain_energy(le_dof, le_coef, le_k, u)
@@ -411,27 +421,35 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
                 # ---- ITERATIONS: Newton on the active elements' forces, condensed through A^-1
                 converged = True
                 if m_act > 0:
-                    _columns(Lf, p, ne_dof, ne_coef, act, m_act, W, W_ok)
+                    _columns(Lf, p, ne_dof, ne_coef, ne_lo, ne_hi, act, m_act, W, W_ok)
                     scale = 0.0
                     for i in range(n):
                         scale = max(scale, abs(R0[i]))
-                    for k in range(m_act):
-                        q = act[k]
-                        dl[k], rl[k] = _deformation(ne_dof, ne_coef, ne_size, q, u, Du, Vv, cc * Du, gk, GU1)
-                        for r in range(m_act):
-                            Gm[k, r] = _dot(ne_dof, ne_coef, q, W[act[r]])
-                        Fm[k] = F[q]
-                        if ne_gap[q] and age[q] >= 1:  # along the impact's last substep
-                            Fm[k] += (F[q] - F_old[q]) * (h / h_old[q])
-                    converged, it = _newton(m_act, act, Gm, dl, rl, Fm, cc, ne_code, ne_par, st_c, st_t, scale,
-                                            rtol, max_iter, resv, kt, Sm, ym)
+                    for c in range(n_comp):  # G is block diagonal over the groups
+                        for k in range(comp_off[c], comp_off[c + 1]):
+                            q = act[k]
+                            dl[k], rl[k] = _deformation(ne_dof, ne_coef, ne_size, q, u, Du, Vv, cc * Du, gk, GU1)
+                            for r in range(comp_off[c], comp_off[c + 1]):
+                                Gm[k, r] = _dot(ne_dof, ne_coef, q, W[act[r]])
+                            Fm[k] = F[q]
+                            if ne_gap[q] and age[q] >= 1:  # along the impact's last substep
+                                Fm[k] += (F[q] - F_old[q]) * (h / h_old[q])
+                    it = 0
+                    for c in range(n_comp):
+                        ok_c, it_c = _newton(comp_off[c], comp_off[c + 1], act, Gm, dl, rl, Fm, cc, ne_code, ne_par,
+                                             st_c, st_t, scale, rtol, max_iter, resv, kt, Sm, ym)
+                        it = max(it, it_c)
+                        converged = converged and ok_c
+                        if not ok_c:
+                            break
                     stats[S_ITERATIONS] += it
                     stats[S_MAX_ITER] = max(stats[S_MAX_ITER], it)
                     for k in range(m_act):
                         q = act[k]
                         F1[q] = Fm[k]
-                        for i in range(n):
-                            Du[i] -= Fm[k] * W[q, i]
+                        if Fm[k] != 0.0:
+                            for i in range(ne_lo[q], ne_hi[q]):
+                                Du[i] -= Fm[k] * W[q, i]
                 if not converged:
                     stats[S_REJECTED] += 1
                     h *= 0.25
@@ -508,6 +526,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
                     m_act = _end_impact(q, t, r0[q], m_act, act, active, cur_imp, imp_t0, imp_dur, imp_vout)
                     F[q] = 0.0
             if n_tog > 0:
+                n_comp = _group_contacts(m_act, act, ne_lo, ne_hi, comp_off)
                 # a contact force may jump at an event (LVe's dashpot): equilibrium at fixed (u, v)
                 _acceleration(LM, p, lin, dof_load, dof_motion, g_t, u, v, ne_dof, ne_coef, F, flin, a)
         step += 1

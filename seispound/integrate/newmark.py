@@ -307,6 +307,40 @@ def _check_general_input(system, ag, dt, nsteps):
         raise ValueError("dof_motion refers to a missing ground-motion row")
 
 
+def _element_ranges(tab, n):
+    """DOF range [lo, hi) of the blocks (buildings) each element with state links, two (nn,) int64 arrays.
+
+    Blocks are the connected components of the DOFs under the masses and linear elements
+    (and the storeys with history); they are contiguous in the assembly's numbering.
+    """
+    parent = np.arange(n)
+
+    def find(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    tables = [tab["ms_dof"], tab["le_dof"], tab["ne_dof"][~tab["ne_gap"]]]
+    for dof in tables:
+        for row in dof:
+            used = [int(d) for d in row if d >= 0]
+            for d in used[1:]:
+                parent[find(d)] = find(used[0])
+    root = np.array([find(i) for i in range(n)])
+    lo_of = np.full(n, n)
+    hi_of = np.zeros(n, np.int64)
+    np.minimum.at(lo_of, root, np.arange(n))
+    np.maximum.at(hi_of, root, np.arange(n) + 1)
+    nn = tab["ne_dof"].shape[0]
+    ne_lo, ne_hi = np.zeros(nn, np.int64), np.zeros(nn, np.int64)
+    for q in range(nn):
+        used = [int(d) for d in tab["ne_dof"][q] if d >= 0]
+        ne_lo[q] = min(lo_of[root[d]] for d in used)
+        ne_hi[q] = max(hi_of[root[d]] for d in used)
+    return ne_lo, ne_hi
+
+
 def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capacity, store_history) -> RawResult:
     """``integrate`` on the general driver (``_general.py``): Newmark throughout, every law through the
     material protocol."""
@@ -333,6 +367,7 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     moving = ground.shape[2] > 1
     cap = impact_capacity or max(256, nsteps // 4 + 16 * max(len(live), 1))
     nt = nsteps + 1 if store_history else 1
+    ne_lo, ne_hi = _element_ranges(tab, n)
     while True:
         out = dict(out_u=np.zeros((nt, n)), out_v=np.zeros((nt, n)), out_a=np.zeros((nt, n)),
                    out_f=np.zeros((nt, nn)), out_e=np.zeros((nt, 6)), umax=np.zeros(n), fmax=np.zeros(nn),
@@ -342,7 +377,7 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
         status, n_imp, t_reached = G.general_kernel(
             tab["ms_dof"], tab["ms_coef"], tab["ms_val"], tab["ms_a0"], tab["le_dof"], tab["le_coef"], tab["le_k"],
             tab["le_c"], int(tab["p"]), tab["dof_load"], system.dof_motion.astype(np.int64), tab["dof_infl"],
-            tab["ne_dof"], tab["ne_coef"], tab["ne_size"], tab["ne_code"], tab["ne_par"], ne_gap,
+            tab["ne_dof"], tab["ne_coef"], tab["ne_size"], tab["ne_code"], tab["ne_par"], ne_gap, ne_lo, ne_hi,
             np.zeros((nn, N_STATE)), ag, moving, ground, np.asarray(system.u0, float), np.asarray(system.v0, float),
             float(dt), int(nsteps), float(nm.beta), float(nm.gamma), int(nm.contact_substeps), float(nm.rtol),
             int(nm.max_iter), bool(store_history), **out)

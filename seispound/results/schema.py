@@ -99,10 +99,13 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
     for i, b in enumerate(model.buildings):
         heights[i, : b.n_floors] = b.floor_heights
 
-    # the four (time, building, floor) histories share one buffer: one large
-    # allocation is backed by huge pages (a few page faults instead of thousands)
+    # the five (time, building, floor) histories share one buffer: one large
+    # allocation is backed by huge pages (a few page faults instead of thousands);
+    # every floor is written below, so only the absent floors are set to NaN
     nt = raw.displacement.shape[0]
-    hist = np.full((5, nt, nb, nfmax), np.nan)
+    hist = np.empty((5, nt, nb, nfmax))
+    for i, b in enumerate(model.buildings):
+        hist[:, :, i, b.n_floors:] = np.nan
     b_of, f_of = system.dof_building, system.dof_floor - 1
     u, vel, acc, drift, shear = hist
     u[:, b_of, f_of] = raw.displacement

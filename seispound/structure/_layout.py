@@ -70,25 +70,26 @@ def building_layout(b, start: int, n_par: int, faces=(True, True)) -> Layout:
         out.foundation = (theta, base)
     out.face[(0, LEFT)] = out.face[(0, RIGHT)] = base
     rod = b.floor_model
-    shares = np.ones(1) if rod is None else rod.node_shares()
-    heights = np.concatenate([[0.0], b.floor_heights])
-    below_nodes = [base] * shares.size
+    shares = [1.0] if rod is None else rod.node_shares().tolist()
+    heights = [0.0] + b.floor_heights.tolist()
+    masses, stiffness, velocity = b.floor_masses.tolist(), b.storey_stiffness.tolist(), b.initial_velocity.tolist()
+    below_nodes = [base] * len(shares)
     for k in range(n):
-        m = b.floor_masses[k]
+        m = masses[k]
         dz = heights[k + 1] - heights[k]
         lever = -dz if f is not None else 0.0
         att = {side: None for side in (LEFT, RIGHT)}
         if rod is not None and rod.attachment is not None and faces[LEFT]:
-            att[LEFT] = _attachment(out, start, rod.attachment, k + 1, b.initial_velocity[k])
+            att[LEFT] = _attachment(out, start, rod.attachment, k + 1, velocity[k])
         nodes = []
         for p, share in enumerate(shares):
             dof = start + len(out.mass)
             nodes.append(dof)
             _dof(out, m * share, FLOOR if rod is None else NODE, k + 1, 0.0 if f is not None else a0,
-                 b.initial_velocity[k], 1.0)
+                 velocity[k], 1.0)
             law_par = None if par is None else _scaled(par[k], int(codes[k]), share)
             _pad_storeys(out)
-            out.el.append((dof, below_nodes[p], theta, lever, b.storey_stiffness[k] * share, a1, 0.0,
+            out.el.append((dof, below_nodes[p], theta, lever, stiffness[k] * share, a1, 0.0,
                            int(codes[k]), law_par))
             out.storey_of.append(k + 1)
             if f is not None and a0:  # mass-proportional damping on the motion relative to the foundation
@@ -100,7 +101,7 @@ def building_layout(b, start: int, n_par: int, faces=(True, True)) -> Layout:
                 out.el.append((nodes[p + 1], nodes[p], -1, 0.0, ks, 0.0, cs, 0, None))
             for side, face_node in ((LEFT, nodes[0]), (RIGHT, nodes[-1])):
                 if att[side] is None and side == RIGHT and rod.attachment is not None and faces[RIGHT]:
-                    att[RIGHT] = _attachment(out, start, rod.attachment, k + 1, b.initial_velocity[k])
+                    att[RIGHT] = _attachment(out, start, rod.attachment, k + 1, velocity[k])
                 if att[side] is not None:
                     a = rod.attachment
                     out.el.append((att[side], face_node, -1, 0.0, a.joint_stiffness, 0.0, a.joint_damping, 0, None))

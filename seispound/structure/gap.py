@@ -134,16 +134,17 @@ LEVELS = ("lower", "floors", "all")
 
 
 def _facing(heights, h):
-    """What a point at height h faces on a building with floor elevations ``heights``: (floor, weight).
+    """What points at heights h face on a building with floor elevations ``heights``: (floors, weights).
 
     A floor within HEIGHT_TOLERANCE: (its 1-based number, 1.0); else the storey below the
     first floor above h: (that floor, fraction of the storey height from the floor below).
+    Vectorised over h (the assembly runs on every simulate).
     """
-    k = int(np.searchsorted(heights, h - HEIGHT_TOLERANCE))  # first floor at or above h
-    if abs(heights[k] - h) <= HEIGHT_TOLERANCE:
-        return k + 1, 1.0
-    below = heights[k - 1] if k > 0 else 0.0
-    return k + 1, float((h - below) / (heights[k] - below))
+    k = np.searchsorted(heights, h - HEIGHT_TOLERANCE)  # first floor at or above each point
+    top = heights[k]
+    below = np.where(k > 0, heights[np.maximum(k - 1, 0)], 0.0)
+    on_floor = np.abs(top - h) <= HEIGHT_TOLERANCE
+    return k + 1, np.where(on_floor, 1.0, (h - below) / (top - below))
 
 
 def gap_levels(ha, hb, levels="lower") -> list:
@@ -152,21 +153,18 @@ def gap_levels(ha, hb, levels="lower") -> list:
     Returns (left floor, left weight, right floor, right weight, height) per element
     (``GapLink``'s convention); see :class:`Gap` for ``levels``.
     """
+    ha, hb = np.asarray(ha, float), np.asarray(hb, float)
     top = min(ha[-1], hb[-1]) + HEIGHT_TOLERANCE
-    common = [h for h in ha if np.min(np.abs(hb - h)) <= HEIGHT_TOLERANCE]
     equal_roofs = abs(ha[-1] - hb[-1]) <= HEIGHT_TOLERANCE  # neither is the lower: both count
     if levels == "floors":
-        heights = common
+        shared = np.abs(ha[:, None] - hb[None, :]).min(axis=1) <= HEIGHT_TOLERANCE
+        heights = ha[shared]
     elif levels == "all" or equal_roofs:
-        heights = sorted(set([h for h in ha if h <= top]) | set([h for h in hb if h <= top]))
+        heights = np.sort(np.concatenate([ha[ha <= top], hb[hb <= top]]))
+        keep = np.concatenate([[True], np.diff(heights) > HEIGHT_TOLERANCE])  # a floor of both, listed once
+        heights = heights[keep]
     else:
-        lower = ha if ha[-1] <= hb[-1] else hb
-        heights = list(lower)
-    out = []
-    for h in heights:
-        if out and abs(h - out[-1][4]) <= HEIGHT_TOLERANCE:
-            continue  # a floor of both, listed once
-        fa, wa = _facing(ha, h)
-        fb, wb = _facing(hb, h)
-        out.append((fa, wa, fb, wb, float(h)))
-    return out
+        heights = ha if ha[-1] <= hb[-1] else hb
+    fa, wa = _facing(ha, heights)
+    fb, wb = _facing(hb, heights)
+    return list(zip(fa.tolist(), wa.tolist(), fb.tolist(), wb.tolist(), heights.tolist()))

@@ -102,15 +102,6 @@ def dof_peaks(raw, below, height, stiff, drift=None) -> dict:
     }
 
 
-def storey_force_history(raw, drift, stiff) -> np.ndarray:
-    """Storey spring force [N] of the storey below each DOF, shape (nt, n): k x drift, or a yielding
-    storey's hysteretic force (dashpot force excluded)."""
-    force = drift * stiff
-    if raw.storey_force is not None and raw.storey_dofs.size:
-        force[:, raw.storey_dofs] = raw.storey_force
-    return force
-
-
 def amplifications(peaks: dict, peaks_twin: dict | None) -> dict:
     """Each peak with pounding over the same without, per DOF (NaN where the twin's peak is 0 or absent)."""
     out = {}

@@ -69,7 +69,7 @@ import json
 import numpy as np
 import xarray as xr
 
-from .peaks import amplifications, dof_peaks, drift_history, storey_arrays, storey_force_history
+from .peaks import amplifications, dof_peaks, drift_history, storey_arrays
 
 SCHEMA = "seispound-result"
 SCHEMA_VERSION = 3
@@ -83,6 +83,29 @@ def _per_floor(values, system, nb, nfmax):
     out = np.full(values.shape[:-1] + (nb, nfmax), np.nan)
     out[..., system.dof_building, system.dof_floor - 1] = values
     return out
+
+
+def _building_runs(system, nb):
+    """[(first column, floors)] per building when each building's floors are consecutive columns from
+    floor 1 up (every row the assembly writes); None otherwise."""
+    b, f = system.dof_building, system.dof_floor
+    runs = []
+    for i in range(nb):
+        cols = np.flatnonzero(b == i)
+        if cols.size == 0 or np.any(np.diff(cols) != 1) or np.any(f[cols] != np.arange(1, cols.size + 1)):
+            return None
+        runs.append((int(cols[0]), int(cols.size)))
+    return runs
+
+
+def _scatter(dst, src, runs, b_of, f_of):
+    """dst[:, building, floor] = src[:, column]: slice copies per building (a fancy-index scatter of
+    every history cost 1 ms on the canonical row), or the general scatter."""
+    if runs is None:
+        dst[:, b_of, f_of] = src
+        return
+    for i, (c0, nf) in enumerate(runs):
+        dst[:, i, :nf] = src[:, c0:c0 + nf]
 
 
 def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, version, motions=None) -> xr.Dataset:
@@ -100,22 +123,24 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
         heights[i, : b.n_floors] = b.floor_heights
 
     # the five (time, building, floor) histories share one buffer: one large
-    # allocation is backed by huge pages (a few page faults instead of thousands);
-    # every floor is written below, so only the absent floors are set to NaN
+    # allocation is backed by huge pages (a few page faults instead of thousands)
     nt = raw.displacement.shape[0]
-    hist = np.empty((5, nt, nb, nfmax))
-    for i, b in enumerate(model.buildings):
-        hist[:, :, i, b.n_floors:] = np.nan
+    hist = np.full((5, nt, nb, nfmax), np.nan)
     b_of, f_of = system.dof_building, system.dof_floor - 1
     u, vel, acc, drift, shear = hist
-    u[:, b_of, f_of] = raw.displacement
-    vel[:, b_of, f_of] = raw.velocity
-    acc[:, b_of, f_of] = raw.acceleration
+    runs = _building_runs(system, nb)
+    _scatter(u, raw.displacement, runs, b_of, f_of)
+    _scatter(vel, raw.velocity, runs, b_of, f_of)
+    _scatter(acc, raw.acceleration, runs, b_of, f_of)
     # drift per DOF: floor minus the floor below (the ground below the first)
     below, storey_h, storey_k = storey_arrays(system, model.buildings)
     drift_dof = raw.drift if raw.drift is not None else drift_history(raw.displacement, below)
-    drift[:, b_of, f_of] = drift_dof
-    shear[:, b_of, f_of] = storey_force_history(raw, drift_dof, storey_k)
+    _scatter(drift, drift_dof, runs, b_of, f_of)
+    # storey force k x drift, elementwise on the (building, floor) layout (no second scatter);
+    # a yielding storey's own force where there is one
+    np.multiply(drift, _per_floor(storey_k, system, nb, nfmax), out=shear)
+    if raw.storey_force is not None and raw.storey_dofs.size:
+        shear[:, b_of[raw.storey_dofs], f_of[raw.storey_dofs]] = raw.storey_force
     peaks = dof_peaks(raw, below, storey_h, storey_k, drift_dof)
     peaks0 = None if raw_twin is None else dof_peaks(raw_twin, below, storey_h, storey_k)
     amps = amplifications(peaks, peaks0)

@@ -52,6 +52,18 @@ def _parser() -> argparse.ArgumentParser:
     st.add_argument("-q", "--quiet", action="store_true", help="no progress bar or summary")
     st.add_argument("--force", action="store_true",
                     help="run records that a plausibility guard refuses (a PGA above 3 g)")
+    cal = sub.add_parser("calibrate", help="fit model parameters to recordings (least squares, with uncertainties)",
+                         description="Fit the model's parameters named by dotted paths so that its simulated "
+                                     "channels match the recorded ones; write the calibrated model.")
+    cal.add_argument("model", help="TOML model file")
+    cal.add_argument("recording", nargs="*", help="recording files (any format obspy reads)")
+    cal.add_argument("--channels", required=True, help="channel map (TOML [[channel]] tables)")
+    cal.add_argument("--trials", help="trials file ([[trial]] tables), instead of recording files")
+    cal.add_argument("--fit", action="append", default=[], metavar="PATH[=lo:hi]",
+                     help="a parameter to fit, by its dotted path (as in a study axis); repeat for more")
+    cal.add_argument("-o", "--output", help="calibrated model file (.toml); default: MODEL_calibrated.toml")
+    cal.add_argument("--max-evaluations", type=int, help="cap on the number of simulations")
+    cal.add_argument("-q", "--quiet", action="store_true", help="no progress or summary")
     from .study.query import add_query_parser
 
     add_query_parser(sub)
@@ -75,6 +87,8 @@ def main(argv=None) -> int:
             return _laws()
         if args.command == "study":
             return _study(args)
+        if args.command == "calibrate":
+            return _calibrate(args)
         if args.command == "query":
             from .study.query import cmd_query
 
@@ -117,6 +131,33 @@ def _run(args) -> int:
     write_result(ds, out)
     if not args.quiet:
         print(summary(ds, out))
+    return 0
+
+
+def _calibrate(args) -> int:
+    import warnings as _w
+
+    from ._output import atomic_output, check_writable
+    from .calibrate import calibrate
+    from .plausibility import PlausibilityWarning
+
+    model_path = Path(args.model)
+    out = Path(args.output) if args.output else model_path.with_name(model_path.stem + "_calibrated.toml")
+    check_writable(out, key="--output", suffixes=(".toml",))
+    if args.trials and args.recording:
+        raise InputError("give recording files or --trials, not both", key="recording")
+    if args.max_evaluations is not None and args.max_evaluations < 1:
+        raise InputError(f"must be >= 1, got {args.max_evaluations}", key="--max-evaluations")
+    with _w.catch_warnings():
+        _w.simplefilter("ignore", PlausibilityWarning)
+        res = calibrate(model_path, args.recording or None, channels=args.channels, fit=args.fit,
+                        trials=args.trials, progress=not args.quiet, max_evaluations=args.max_evaluations,
+                        output=out)
+    with atomic_output(out, key="--output") as tmp:
+        Path(tmp).write_text(res.model_text, encoding="utf-8")
+    if not args.quiet:
+        print(res.summary())
+        print(f"  written to {out}")
     return 0
 
 

@@ -1,0 +1,252 @@
+"""Least-squares calibration of a model against recordings, with uncertainties.
+
+The residual is, channel by channel, (simulated - recorded) / ||recorded||_2 at the
+recording's samples, so that its squared norm is the sum of the channels' squared
+normalised errors (seed Eq. 10: NE = ||sim - rec||_2 / ||rec||_2).  It is minimised by
+:func:`scipy.optimize.least_squares` (trust-region reflective, bounds) over parameters
+named by the study's dotted paths (``study.paths``); a path to a list of numbers fits one
+factor on the whole list.  Stiffness-, mass- and yield-like parameters are fitted in log
+space.
+
+Uncertainties: from the Jacobian at the optimum, cov = s^2 (J^T J)^-1 with
+s^2 = ||r||^2 / (n - p), inflated by n / n_eff for the residual's autocorrelation
+(n_eff = n (1 - rho) / (1 + rho), rho its lag-1 autocorrelation: the AR(1) effective
+sample size, Bayley & Hammersley 1946; Bretherton et al. 1999, J. Climate 12, Eq. 31);
+standard errors of log-space parameters by the delta method (sigma_x = x sigma_log x).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["FitParameter", "CalibrationResult", "parse_fit", "default_bounds"]
+
+_LOG_WORDS = ("stiffness", "mass", "yield", "inertia", "damping_constant", "modulus", "area")
+
+
+@dataclass
+class FitParameter:
+    """One fitted quantity: a dotted path, bounds, and whether it is a factor on a list."""
+
+    path: str
+    lo: float
+    hi: float
+    log: bool
+    factor: bool  # the path holds a list: one factor on every entry
+    start: float  # the value (or factor 1) in the model as given
+
+    def value_at(self, base, x: float):
+        """What the model file gets at ``path`` for the parameter value x."""
+        return [v * x for v in base] if self.factor else x
+
+
+def default_bounds(path: str, value) -> tuple[float, float, bool]:
+    """(lo, hi, log) for a path when --fit gives none (documented in the README)."""
+    last = path.split(".")[-1]
+    if isinstance(value, list):
+        return 0.2, 5.0, True  # a factor on a list: masses, stiffnesses per storey
+    v = float(value)
+    if last in ("restitution", "e0", "e_inf", "e_ref", "min", "max"):
+        return 0.05, 0.99, False
+    if last == "ratio":
+        return 0.001, 0.3, False
+    if last == "size":
+        return 0.0, max(4.0 * v, 0.05), False
+    if any(w in path for w in _LOG_WORDS) and v > 0:
+        return v / 10.0, v * 10.0, True
+    if v > 0:
+        return v / 5.0, v * 5.0, True
+    raise InputError(f"no default bounds for a value of {v:g}: give them as PATH=lo:hi", key=path)
+
+
+def parse_fit(specs, model_data) -> list[FitParameter]:
+    """``PATH[=lo:hi]`` strings -> FitParameters, checked against the model file's table."""
+    from ..study.paths import get_value
+
+    out = []
+    for spec in specs:
+        path, _, bounds = spec.partition("=")
+        path = path.strip()
+        try:
+            value = get_value(model_data, path)
+        except (KeyError, IndexError, InputError, TypeError):
+            raise InputError("no such key in the model (dotted path as in a study axis)", key=path) from None
+        is_list = isinstance(value, list)
+        if is_list and not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value):
+            raise InputError("a list path must hold numbers (one factor is fitted on it)", key=path)
+        if not is_list and (isinstance(value, bool) or not isinstance(value, (int, float))):
+            raise InputError(f"must be a number or a list of numbers to fit, the model has {value!r}", key=path)
+        lo, hi, log = default_bounds(path, value)
+        if bounds:
+            try:
+                lo, hi = (float(x) for x in bounds.split(":"))
+            except ValueError:
+                raise InputError(f"bounds must read lo:hi, got {bounds!r}", key=path) from None
+            log = log and lo > 0
+        start = 1.0 if is_list else float(value)
+        if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+            raise InputError(f"bounds must be finite with lo < hi, got {lo:g}:{hi:g}", key=path)
+        if not lo <= start <= hi:
+            raise InputError(f"the model's value {start:g} lies outside the bounds {lo:g}:{hi:g}", key=path)
+        if any(p.path == path for p in out):
+            raise InputError("fitted twice", key=path)
+        out.append(FitParameter(path, lo, hi, log, is_list, start))
+    if not out:
+        raise InputError("give at least one --fit PATH", key="fit")
+    return out
+
+
+@dataclass
+class CalibrationResult:
+    """What a calibration found.
+
+    Attributes: parameters (path -> dict of value, start, stderr, lo, hi, at_bound), correlation
+    (p, p), ne_before / ne_after (trial -> {trace id: NE}), ne_mean_before / ne_mean_after (mean
+    over every mapped channel of every trial), evaluations, seconds, model_text (the calibrated
+    model file), n_eff / n (the residual's effective and actual sample counts), message.
+    """
+
+    parameters: dict
+    correlation: np.ndarray
+    ne_before: dict
+    ne_after: dict
+    ne_mean_before: float
+    ne_mean_after: float
+    evaluations: int
+    seconds: float
+    model_text: str
+    n: int
+    n_eff: float
+    success: bool
+    message: str
+    history: list = field(default_factory=list)
+
+    def summary(self) -> str:
+        lines = [f"calibration: {self.evaluations} simulations, {self.seconds:.1f} s; NE (mean over channels) "
+                 f"{self.ne_mean_before:.4f} -> {self.ne_mean_after:.4f}"]
+        lines.append(f"  {'parameter':40s} {'start':>12s} {'fitted':>12s} {'std. error':>11s}")
+        for path, p in self.parameters.items():
+            flag = "  (at a bound)" if p["at_bound"] else ""
+            lines.append(f"  {path:40s} {p['start']:12.5g} {p['value']:12.5g} {p['stderr']:11.3g}{flag}")
+        names = list(self.parameters)
+        for i in range(len(names)):
+            for j in range(i):
+                if abs(self.correlation[i, j]) >= 0.8:
+                    lines.append(f"  strongly correlated: {names[i]} and {names[j]} ({self.correlation[i, j]:+.2f})")
+        for trial, nes in self.ne_after.items():
+            for cid, ne in nes.items():
+                lines.append(f"  NE {trial} {cid}: {self.ne_before[trial][cid]:.4f} -> {ne:.4f}")
+        return "\n".join(lines)
+
+
+def normalised_errors(sim, rec) -> dict:
+    """{trace id: ||sim - rec|| / ||rec||} (seed Eq. 10)."""
+    return {cid: float(np.linalg.norm(sim[cid] - x) / max(np.linalg.norm(x), 1e-300)) for cid, x in rec.items()}
+
+
+def calibrate_observer(observer, params, progress=True, max_evaluations=None, write_base=None) -> CalibrationResult:
+    """Fit ``params`` (FitParameters) through ``observer`` (observe.Observer); see the module docstring."""
+    from scipy.optimize import least_squares
+
+    from ..study.paths import get_value
+
+    base_values = {p.path: get_value(observer.model_data, p.path) for p in params}
+    lo = np.array([math.log(p.lo) if p.log else p.lo for p in params])
+    hi = np.array([math.log(p.hi) if p.log else p.hi for p in params])
+    y0 = np.array([math.log(p.start) if p.log else p.start for p in params])
+    y0 = np.clip(y0, lo, hi)
+    recs = [t.recording.data for t in observer.trials]
+    norms = [{cid: max(np.linalg.norm(x), 1e-300) for cid, x in r.items()} for r in recs]
+    t0 = time.perf_counter()
+    history = []
+
+    def values(y):
+        return [math.exp(v) if p.log else float(v) for p, v in zip(params, y)]
+
+    def overrides(y):
+        return [(p.path, p.value_at(base_values[p.path], x)) for p, x in zip(params, values(y))]
+
+    def residual(y):
+        sims = observer.simulate(overrides(y))
+        r = np.concatenate([(s[cid] - rec[cid]) / nrm[cid] for s, rec, nrm in zip(sims, recs, norms) for cid in rec])
+        history.append((values(y), float(r @ r)))
+        if progress:
+            print(f"\r  simulation {observer.evaluations}: sum of NE^2 {r @ r:.6g}   ", end="", file=sys.stderr,
+                  flush=True)
+        return r
+
+    sims0 = observer.simulate(overrides(y0))
+    ne_before = {t.name: normalised_errors(s, t.recording.data) for t, s in zip(observer.trials, sims0)}
+    fit = least_squares(residual, y0, bounds=(lo, hi), x_scale="jac", method="trf",
+                        max_nfev=max_evaluations, diff_step=1e-4)
+    if progress:
+        print(file=sys.stderr)
+    sims = observer.simulate(overrides(fit.x))
+    ne_after = {t.name: normalised_errors(s, t.recording.data) for t, s in zip(observer.trials, sims)}
+    cov_y, n, n_eff = _covariance(fit, recs)
+    xs = values(fit.x)
+    sd_y = np.sqrt(np.clip(np.diag(cov_y), 0.0, None))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov_y / np.outer(sd_y, sd_y)
+    out = {}
+    for k, p in enumerate(params):
+        sd = xs[k] * sd_y[k] if p.log else sd_y[k]
+        at_bound = bool(fit.active_mask[k] != 0)
+        out[p.path] = dict(value=xs[k], start=p.start, stderr=float(sd), lo=p.lo, hi=p.hi, at_bound=at_bound,
+                           factor=p.factor)
+    text = _calibrated_text(observer, params, base_values, xs, write_base)
+    mean = lambda d: float(np.mean([v for nes in d.values() for v in nes.values()]))  # noqa: E731
+    return CalibrationResult(parameters=out, correlation=corr, ne_before=ne_before, ne_after=ne_after,
+                             ne_mean_before=mean(ne_before), ne_mean_after=mean(ne_after),
+                             evaluations=observer.evaluations, seconds=time.perf_counter() - t0, model_text=text,
+                             n=n, n_eff=n_eff, success=bool(fit.success), message=str(fit.message), history=history)
+
+
+def _covariance(fit, recs):
+    """cov of the (log-)parameters, inflated for the residual's lag-1 autocorrelation; (cov, n, n_eff)."""
+    r = fit.fun
+    J = fit.jac
+    n, p = J.shape
+    num, den = 0.0, 0.0
+    start = 0
+    for rec in recs:  # lag-1 autocorrelation pooled over the channels (not across their joins)
+        for x in rec.values():
+            seg = r[start:start + x.size]
+            seg = seg - seg.mean()
+            num += float(seg[1:] @ seg[:-1])
+            den += float(seg @ seg)
+            start += x.size
+    rho = min(max(num / den if den > 0 else 0.0, 0.0), 0.999)
+    n_eff = max(n * (1.0 - rho) / (1.0 + rho), p + 1.0)
+    s2 = float(r @ r) / max(n - p, 1)
+    JtJ = J.T @ J
+    cov = np.linalg.pinv(JtJ) * s2 * (n / n_eff)
+    return cov, n, n_eff
+
+
+def _calibrated_text(observer, params, base_values, xs, write_base) -> str:
+    """The model file with the fitted values, its relative record paths rebased onto ``write_base``."""
+    import copy
+    import os
+
+    import tomli_w
+
+    from ..study.paths import set_value
+
+    data = copy.deepcopy(observer.model_data)
+    for p, x in zip(params, xs):
+        set_value(data, p.path, p.value_at(base_values[p.path], x))
+    if write_base is not None:
+        tables = [data.get("ground_motion", {})] + [b.get("ground_motion", {}) for b in data.get("building", [])
+                                                    if isinstance(b.get("ground_motion"), dict)]
+        for t in tables:
+            if isinstance(t, dict) and isinstance(t.get("file"), str) and not os.path.isabs(t["file"]):
+                t["file"] = os.path.relpath(os.path.abspath(os.path.join(observer.base, t["file"])), write_base)
+    return tomli_w.dumps(data)

@@ -101,9 +101,9 @@ def parse_channels(data: dict, model) -> list[Channel]:
         q = t.get("quantity")
         if q not in QUANTITIES:
             raise InputError(f"must be one of {', '.join(QUANTITIES)}, got {q!r}", key=f"{key}.quantity")
-        factor = _factor(t, q, key)
         if q == "force":
-            out.append(Channel(cid, q, gap=_gap(t, links, names, key), factor=factor))
+            gap = _gap(t, links, names, key)
+            out.append(Channel(cid, q, gap=gap, factor=_factor(t, q, key)))
             continue
         b = t.get("building")
         if b not in names:
@@ -123,7 +123,7 @@ def parse_channels(data: dict, model) -> list[Channel]:
                 raise InputError(f"must be a fraction of the floor's length in [0, 1], got {pos!r}",
                                  key=f"{key}.position")
         out.append(Channel(cid, q, building=b, floor=fl, position=None if pos is None else float(pos),
-                           factor=factor))
+                           factor=_factor(t, q, key)))
     return out
 
 

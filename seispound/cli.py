@@ -64,6 +64,22 @@ def _parser() -> argparse.ArgumentParser:
     cal.add_argument("-o", "--output", help="calibrated model file (.toml); default: MODEL_calibrated.toml")
     cal.add_argument("--max-evaluations", type=int, help="cap on the number of simulations")
     cal.add_argument("-q", "--quiet", action="store_true", help="no progress or summary")
+    imp = sub.add_parser("impact", help="the seed paper's procedure on impact tests: per trial and law, the "
+                                        "stiffness matching the peak force, e from the displacements, NE of the "
+                                        "first pulse",
+                         description="For two pendulum bodies and one gap: per trial (a recording of the force and "
+                                     "both bodies' displacements) and per contact law, fit the stiffness so that the "
+                                     "simulated peak force equals the recorded one, take e from the velocities "
+                                     "before and after the impact, and report NE (seed Eq. 10) over the first "
+                                     "positive force pulse, as a table like the seed's Table 1 and a figure like "
+                                     "its Fig. 7.")
+    imp.add_argument("model", help="TOML model file: two 1-DoF bodies and one gap (models/slab_pendulum.toml)")
+    imp.add_argument("--trials", required=True, help="trials file ([[trial]] recording = ...)")
+    imp.add_argument("--channels", required=True, help="channel map: one force, one displacement per body")
+    imp.add_argument("--laws", default="LVe,MLVe,NIVe,Hd,LHC", help="comma-separated laws (default: the seed's five)")
+    imp.add_argument("-o", "--output", help="the table (markdown); default: printed only")
+    imp.add_argument("--figure", help="a PNG of measured against simulated force per trial")
+    imp.add_argument("-q", "--quiet", action="store_true", help="no progress or table on the terminal")
     from .study.query import add_query_parser
 
     add_query_parser(sub)
@@ -89,6 +105,8 @@ def main(argv=None) -> int:
             return _study(args)
         if args.command == "calibrate":
             return _calibrate(args)
+        if args.command == "impact":
+            return _impact(args)
         if args.command == "query":
             from .study.query import cmd_query
 
@@ -158,6 +176,33 @@ def _calibrate(args) -> int:
     if not args.quiet:
         print(res.summary())
         print(f"  written to {out}")
+    return 0
+
+
+def _impact(args) -> int:
+    from ._output import atomic_output, check_writable
+    from .calibrate.impact import impact_study
+    from .contact import get_law
+
+    laws = [x.strip() for x in args.laws.split(",") if x.strip()]
+    for law in laws:
+        try:
+            get_law(law)
+        except InputError as err:
+            raise InputError(err.message, key="--laws") from None
+    for path, key, suffixes in ((args.output, "--output", (".md", ".txt")), (args.figure, "--figure", (".png",))):
+        if path:
+            check_writable(Path(path), key=key, suffixes=suffixes)
+    study = impact_study(args.model, args.trials, args.channels, laws=tuple(laws), progress=not args.quiet)
+    table = study.table()
+    if args.output:
+        with atomic_output(Path(args.output), key="--output") as tmp:
+            Path(tmp).write_text(table + "\n", encoding="utf-8")
+    if args.figure:
+        with atomic_output(Path(args.figure), key="--figure") as tmp:
+            study.figure(tmp)
+    if not args.quiet:
+        print(table)
     return 0
 
 

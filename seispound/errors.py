@@ -71,3 +71,16 @@ def number_array(value, key: str, *, file=None):
             where = "" if seq is not items else f"entry {pos + 1} is "
             raise InputError(f"must be a number or a list of numbers; {where}{what}", file=file, key=key)
     return np.atleast_1d(np.asarray(seq, dtype=float)).reshape(-1)
+
+
+def finite_number(value, key: str, *, positive: bool = False, nonnegative: bool = False, file=None) -> float:
+    """``value`` as a float if it is a finite number (not a bool), > 0 or >= 0 if asked; else InputError at ``key``."""
+    import math
+
+    if not (isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)):
+        raise InputError(f"must be a finite number, got {value!r}", file=file, key=key)
+    if positive and value <= 0:
+        raise InputError(f"must be > 0, got {value:g}", file=file, key=key)
+    if nonnegative and value < 0:
+        raise InputError(f"must be >= 0, got {value:g}", file=file, key=key)
+    return float(value)

@@ -17,19 +17,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, finite_number
 
 __all__ = ["RodFloor", "Attachment"]
-
-
-def _num(value, key, positive=False, nonnegative=False) -> float:
-    if not (isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)):
-        raise InputError(f"must be a finite number, got {value!r}", key=key)
-    if positive and value <= 0:
-        raise InputError(f"must be > 0, got {value:g}", key=key)
-    if nonnegative and value < 0:
-        raise InputError(f"must be >= 0, got {value:g}", key=key)
-    return float(value)
 
 
 @dataclass
@@ -41,9 +31,9 @@ class Attachment:
     joint_damping: float = 0.0
 
     def validate(self, key="attachment"):
-        _num(self.mass, f"{key}.mass", positive=True)
-        _num(self.joint_stiffness, f"{key}.joint_stiffness", positive=True)
-        _num(self.joint_damping, f"{key}.joint_damping", nonnegative=True)
+        finite_number(self.mass, f"{key}.mass", positive=True)
+        finite_number(self.joint_stiffness, f"{key}.joint_stiffness", positive=True)
+        finite_number(self.joint_damping, f"{key}.joint_damping", nonnegative=True)
 
 
 @dataclass
@@ -81,25 +71,25 @@ class RodFloor:
         n = self.segments
         if not (isinstance(n, int) and not isinstance(n, bool) and 1 <= n <= 1000):
             raise InputError(f"must be an integer in 1..1000, got {n!r}", key=f"{key}.segments")
-        _num(self.length, f"{key}.length", positive=True)
+        finite_number(self.length, f"{key}.length", positive=True)
         if self.axial_stiffness is not None:
             if self.youngs_modulus is not None or self.area is not None:
                 raise InputError("give axial_stiffness, or youngs_modulus and area, not both",
                                  key=f"{key}.axial_stiffness")
-            _num(self.axial_stiffness, f"{key}.axial_stiffness", positive=True)
+            finite_number(self.axial_stiffness, f"{key}.axial_stiffness", positive=True)
         else:
             for f in ("youngs_modulus", "area"):
                 if getattr(self, f) is None:
                     raise InputError("is required (or give axial_stiffness)", key=f"{key}.{f}")
-                _num(getattr(self, f), f"{key}.{f}", positive=True)
-        zeta = _num(self.axial_damping, f"{key}.axial_damping", nonnegative=True)
+                finite_number(getattr(self, f), f"{key}.{f}", positive=True)
+        zeta = finite_number(self.axial_damping, f"{key}.axial_damping", nonnegative=True)
         if zeta >= 1.0:
             raise InputError(f"must be < 1, got {zeta:g}", key=f"{key}.axial_damping")
         if self.sensor == "attachment":
             if self.attachment is None:
                 raise InputError('"attachment" needs an attachment', key=f"{key}.sensor")
         else:
-            s = _num(self.sensor, f"{key}.sensor")
+            s = finite_number(self.sensor, f"{key}.sensor")
             if not 0.0 <= s <= 1.0:
                 raise InputError(f'must lie in [0, 1] (fraction of the length from the left face) or be '
                                  f'"attachment", got {s:g}', key=f"{key}.sensor")

@@ -15,19 +15,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError, number_array
+from ..errors import InputError, finite_number, number_array
 
 __all__ = ["Foundation", "Soil", "Footing", "cone_impedances"]
-
-
-def _finite(value, key, positive=False, nonnegative=False) -> float:
-    if not (isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)):
-        raise InputError(f"must be a finite number, got {value!r}", key=key)
-    if positive and value <= 0:
-        raise InputError(f"must be > 0, got {value:g}", key=key)
-    if nonnegative and value < 0:
-        raise InputError(f"must be >= 0, got {value:g}", key=key)
-    return float(value)
 
 
 @dataclass
@@ -39,9 +29,9 @@ class Soil:
     poisson: float
 
     def validate(self, key="soil"):
-        _finite(self.shear_wave_velocity, f"{key}.shear_wave_velocity", positive=True)
-        _finite(self.density, f"{key}.density", positive=True)
-        nu = _finite(self.poisson, f"{key}.poisson")
+        finite_number(self.shear_wave_velocity, f"{key}.shear_wave_velocity", positive=True)
+        finite_number(self.density, f"{key}.density", positive=True)
+        nu = finite_number(self.poisson, f"{key}.poisson")
         if not 0.0 <= nu < 0.5:
             raise InputError(f"must lie in [0, 0.5), got {nu:g}", key=f"{key}.poisson")
 
@@ -58,12 +48,12 @@ class Footing:
         if self.radius is not None:
             if self.width is not None or self.length is not None:
                 raise InputError("give a radius, or a width and a length, not both", key=f"{key}.radius")
-            _finite(self.radius, f"{key}.radius", positive=True)
+            finite_number(self.radius, f"{key}.radius", positive=True)
             return
         for f in ("width", "length"):
             if getattr(self, f) is None:
                 raise InputError("is required (or give a radius)", key=f"{key}.{f}")
-            _finite(getattr(self, f), f"{key}.{f}", positive=True)
+            finite_number(getattr(self, f), f"{key}.{f}", positive=True)
 
     def equivalent_radii(self) -> tuple[float, float]:
         """(r_sway, r_rock) [m]: the disk of equal area and the disk of equal second moment about the rocking axis.
@@ -143,8 +133,8 @@ class Foundation:
     _DIRECT = ("sway_stiffness", "sway_damping", "rocking_stiffness", "rocking_damping")
 
     def validate(self, n_floors: int, key: str = "foundation") -> None:
-        _finite(self.mass, f"{key}.mass", positive=True)
-        _finite(self.rotary_inertia, f"{key}.rotary_inertia", nonnegative=True)
+        finite_number(self.mass, f"{key}.mass", positive=True)
+        finite_number(self.rotary_inertia, f"{key}.rotary_inertia", nonnegative=True)
         self.floor_inertias(n_floors, key)
         direct = [f for f in self._DIRECT if getattr(self, f) is not None]
         if self.soil is not None or self.footing is not None:
@@ -161,9 +151,9 @@ class Foundation:
                 if getattr(self, f) is None:
                     raise InputError("is required (or give soil and footing)", key=f"{key}.{f}")
                 if f.endswith("stiffness"):
-                    _finite(getattr(self, f), f"{key}.{f}", positive=True)
+                    finite_number(getattr(self, f), f"{key}.{f}", positive=True)
                 else:
-                    _finite(getattr(self, f), f"{key}.{f}", nonnegative=True)
+                    finite_number(getattr(self, f), f"{key}.{f}", nonnegative=True)
         if self.rocking_inertia(n_floors) <= 0.0:
             raise InputError("the rocking DOF needs inertia: give rotary_inertia or floor_rotary_inertia > 0",
                              key=f"{key}.rotary_inertia")

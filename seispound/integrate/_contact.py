@@ -8,10 +8,13 @@ DOFs of each gap.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
 from ..contact._scalar import (
+    NIVE,
     P_EXPONENT,
     P_K,
     P_MEFF,
@@ -27,6 +30,42 @@ from ._linear import _dense_solve
 # contact; its first substeps are graded (1/2^ONSET_GRADING of the regular
 # substep, doubling each substep) so that the impact converges with the substep.
 ONSET_GRADING = 6
+
+
+@njit(cache=True, inline="always")
+def _contact_step(t, t_end, dt, m_act, act_list, code, hsub, age, h_lev):
+    """(h, lev): the next step inside the analysis step ending at t_end while gaps are closed.
+
+    Each closed gap asks for substeps of at most hsub (its impact's duration / n_sub), on
+    the grid dt / 2^lev so that each size is factored once; NIVe's first substeps are
+    graded (ONSET_GRADING).  An element whose hsub is inf (a storey) asks for none.  The
+    step runs to the next grid point, absorbing a sliver before t_end.  Shared by both
+    drivers; inlined (the fast driver's loop is sensitive to calls).
+    """
+    n_lev = h_lev.size
+    remaining = t_end - t
+    h = remaining
+    lev = 0
+    for q in range(m_act):
+        g = act_list[q]
+        lg = 0
+        while lg < n_lev - 1 and h_lev[lg] > hsub[g]:
+            lg += 1
+        if code[g] == NIVE and age[g] < ONSET_GRADING:
+            lg = min(lg + ONSET_GRADING - age[g], n_lev - 1)
+        lev = max(lev, lg)
+    if lev > 0:
+        # next point of the dt/2^lev grid inside this analysis step
+        hl = h_lev[lev]
+        t_start = t_end - dt
+        # (tolerant rounding: t carries round-off, never take a sliver step)
+        nxt = t_start + (math.floor((t - t_start) / hl + 1e-6) + 1.0) * hl
+        if nxt - t < 1e-3 * hl:
+            nxt += hl
+        h = min(nxt - t, remaining)
+        if remaining - h < 1e-3 * hl:
+            h = remaining  # absorb a sliver rather than step over it alone
+    return h, lev
 
 
 @njit(cache=True)

@@ -44,11 +44,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..contact.codes import NIVE
-from ._contact import ONSET_GRADING, _begin_impact, _end_impact, _group_contacts
+from ._contact import _begin_impact, _contact_step, _end_impact, _group_contacts
 from ._elements import _dot, _scatter, assemble_band, kinetic_energy, linear_forces, mass_times, strain_energy
 from ._events import LAND_TOL, _event_in_step
-from ._ground import GU0, GU1, GV0, GV1, _gap_ground_accept, _gap_ground_all, _ground_all
+from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
 from ._linear import _dense_solve, _factor_band, _solve_range
 from ._material import ST_E, ST_ZETA, material_commit, material_energy, material_trial
 from ._outputs import (
@@ -285,7 +284,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     h_old = np.ones(nn)
     active = np.zeros(nn, np.bool_)
     zeta = np.zeros(nn)
-    hsub = np.zeros(nn)
+    hsub = np.full(nn, np.inf)  # substep of each closed gap's impact (a storey asks for none)
     age = np.zeros(nn, np.int64)
     cur_imp = -np.ones(nn, np.int64)
     d0 = np.empty(nn)
@@ -346,28 +345,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
         t_end = (step + 1) * dt
         while t_end - t > 1e-9 * dt:
             # ---- step size: the rest of the analysis step, or the contact substep grid
-            remaining = t_end - t
-            h = remaining
-            lev = 0
-            for k in range(m_act):
-                q = act[k]
-                if not ne_gap[q]:
-                    continue
-                lg = 0
-                while lg < N_LEVELS - 1 and h_lev[lg] > hsub[q]:
-                    lg += 1
-                if ne_code[q] == NIVE and age[q] < ONSET_GRADING:
-                    lg = min(lg + ONSET_GRADING - age[q], N_LEVELS - 1)
-                lev = max(lev, lg)
-            if lev > 0:
-                hl = h_lev[lev]
-                t_start = t_end - dt
-                nxt = t_start + (np.floor((t - t_start) / hl + 1e-6) + 1.0) * hl
-                if nxt - t < 1e-3 * hl:
-                    nxt += hl
-                h = min(nxt - t, remaining)
-                if remaining - h < 1e-3 * hl:
-                    h = remaining
+            h, lev = _contact_step(t, t_end, dt, m_act, act, ne_code, hsub, age, h_lev)
             target = -1
             landed = False
             located = False

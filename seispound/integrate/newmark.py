@@ -213,14 +213,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     if ag.shape[1] == nsteps + 1 and system.dof_influence is not None:
         ag, dof_motion = system.motion_rows(ag)
         system = replace(system, dof_motion=dof_motion, dof_influence=None)
-    if ag.shape[1] != nsteps + 1:
-        raise ValueError(f"ground acceleration has {ag.shape[1]} samples, expected nsteps + 1 = {nsteps + 1}")
-    if not np.all(np.isfinite(ag)):
-        raise InputError("ground acceleration contains NaN or inf", key="ground_motion")
-    if not (dt > 0 and math.isfinite(dt)):
-        raise InputError(f"dt must be > 0, got {dt!r}", key="analysis.dt")
-    if int(system.dof_motion.max(initial=0)) >= ag.shape[0]:
-        raise ValueError("dof_motion refers to a missing ground-motion row")
+    _check_input(system, ag, dt, nsteps)
     n, ng_all = system.n_dof, system.n_gap
     # gaps whose law is NONE (the no-pounding twin) are left out of the kernel
     live = np.flatnonzero(system.gap_law != 0)
@@ -296,7 +289,8 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
                      peak_displacement=out["umax"], peak_force=peak_force, impacts=imp, stats=stats)
 
 
-def _check_general_input(system, ag, dt, nsteps):
+def _check_input(system, ag, dt, nsteps):
+    """The checks both drivers need: samples on the step grid, finite, dt > 0, every motion row present."""
     if ag.shape[1] != nsteps + 1:
         raise ValueError(f"ground acceleration has {ag.shape[1]} samples, expected nsteps + 1 = {nsteps + 1}")
     if not np.all(np.isfinite(ag)):
@@ -348,7 +342,7 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     from ._material import N_STATE
 
     ag = np.ascontiguousarray(np.atleast_2d(np.asarray(ground_acceleration, dtype=float)))
-    _check_general_input(system, ag, dt, nsteps)
+    _check_input(system, ag, dt, nsteps)
     tab = system.element_tables()
     keep = ~(tab["ne_gap"] & (tab["ne_code"] == 0))  # gaps disabled (the no-pounding twin) are left out
     for k in ("ne_dof", "ne_coef", "ne_size", "ne_code", "ne_par", "ne_gap"):

@@ -68,7 +68,7 @@ class StoreyLaw:
         given = [f for f in ("yield_drift", "yield_force") if getattr(self, f) is not None]
         if len(given) != 1:
             raise InputError("give exactly one of yield_drift [m] and yield_force [N]"
-                             + (f" (got both)" if len(given) == 2 else ""), key=f"{key}.yield_drift")
+                             + (" (got both)" if len(given) == 2 else ""), key=f"{key}.yield_drift")
         self._per_storey(given[0], n_storeys, key, positive=True)
         alpha = self._per_storey("post_yield_ratio", n_storeys, key)
         if np.any((alpha < 0.0) | (alpha >= 1.0)):

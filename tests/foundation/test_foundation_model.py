@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from seispound import simulate
-from seispound.foundation import Foundation, Footing, Soil, cone_impedances
+from seispound.foundation import Footing, Soil, cone_impedances
 from seispound.model import load_model
 from seispound.structure import assemble
 from tests._models import short_copy

@@ -240,7 +240,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         e2 = np.zeros((0, 0))
         e1 = np.zeros(1, np.int64)
         md = (False, e1, np.zeros(0), e1, e2, e2, np.zeros(0), np.zeros(0), e2, 1)
-    while True:
+    def run(cap):
         # one buffer for every history: numpy backs allocations >= 4 MiB with
         # transparent huge pages, which saves ~1e3 page faults per run
         hist = np.empty(nt * (3 * n + ng + 6))
@@ -248,26 +248,16 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
             out_u=hist[:nt * n].reshape(nt, n), out_v=hist[nt * n:2 * nt * n].reshape(nt, n),
             out_a=hist[2 * nt * n:3 * nt * n].reshape(nt, n),
             out_f=hist[3 * nt * n:nt * (3 * n + ng)].reshape(nt, ng), out_e=hist[nt * (3 * n + ng):].reshape(nt, 6),
-            umax=np.empty(n), fmax=np.empty(ng),
-            imp_gap=np.empty(cap, np.int64), imp_t0=np.empty(cap), imp_v0=np.empty(cap),
-            imp_vout=np.empty(cap), imp_fmax=np.empty(cap), imp_dur=np.empty(cap), imp_zeta=np.empty(cap),
-            imp_e=np.empty(cap),
-            stats=np.zeros(K.N_STATS, np.int64),
-        )
-        status, n_imp, t_reached = K.integrate_kernel(
+            umax=np.empty(n), fmax=np.empty(ng), **_catalogue(cap))
+        return (*K.integrate_kernel(
             system.mass, system.dof_a0, system.dof_motion, system.el_i, system.el_j, system.el_k,
             system.el_a1, int(system.bandwidth), system.u0, system.v0, gap_i, gap_j, gap_lo, gap_hi,
             gap_size, gap_law, np.ascontiguousarray(gap_par), np.ascontiguousarray(ag), moving, ground, float(dt),
             int(nsteps), float(nm.beta), float(nm.gamma), int(nm.contact_substeps), float(nm.rtol),
             int(nm.max_iter), bool(store_history), *md, exact, ex_co,
-            bool(multirate), float(wait_share), blk_dof, blk_el, **out)
-        if status == K.IMPACT_CAPACITY:
-            cap *= 4
-            continue
-        if status != K.OK:
-            raise IntegrationError(f"Newton-Raphson did not converge at t = {t_reached:.6g} s "
-                                   f"(try a smaller analysis.dt or more contact_substeps)")
-        break
+            bool(multirate), float(wait_share), blk_dof, blk_el, **out), out)
+
+    n_imp, out = _run_growing(run, cap)
     out["out_e"][:, K.E_HYSTERETIC] = 0.0  # no storey with history on this path
     imp = {k[4:]: out[k][:n_imp].copy() for k in out if k.startswith("imp_")}
     imp["gap"] = live[imp["gap"]]  # back to the system's gap numbering
@@ -287,6 +277,27 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     return RawResult(time=np.arange(nt) * dt, displacement=out["out_u"], velocity=out["out_v"],
                      acceleration=out["out_a"], force=force, energy=out["out_e"],
                      peak_displacement=out["umax"], peak_force=peak_force, impacts=imp, stats=stats)
+
+
+def _catalogue(cap) -> dict:
+    """Empty impact catalogue arrays of ``cap`` rows and the counters, as both drivers take them."""
+    return dict(imp_gap=np.empty(cap, np.int64), imp_t0=np.empty(cap), imp_v0=np.empty(cap), imp_vout=np.empty(cap),
+                imp_fmax=np.empty(cap), imp_dur=np.empty(cap), imp_zeta=np.empty(cap), imp_e=np.empty(cap),
+                stats=np.zeros(K.N_STATS, np.int64))
+
+
+def _run_growing(run, cap):
+    """run(cap) -> (status, n_impacts, t_reached, outputs), rerun with 4x the catalogue while it overflows;
+    returns (n_impacts, outputs)."""
+    while True:
+        status, n_imp, t_reached, out = run(cap)
+        if status == K.IMPACT_CAPACITY:
+            cap *= 4
+            continue
+        if status != K.OK:
+            raise IntegrationError(f"Newton-Raphson did not converge at t = {t_reached:.6g} s "
+                                   f"(try a smaller analysis.dt or more contact_substeps)")
+        return n_imp, out
 
 
 def _check_input(system, ag, dt, nsteps):
@@ -362,26 +373,19 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     cap = impact_capacity or max(256, nsteps // 4 + 16 * max(len(live), 1))
     nt = nsteps + 1 if store_history else 1
     ne_lo, ne_hi = _element_ranges(tab, n)
-    while True:
+    def run(cap):
         out = dict(out_u=np.zeros((nt, n)), out_v=np.zeros((nt, n)), out_a=np.zeros((nt, n)),
                    out_f=np.zeros((nt, nn)), out_e=np.zeros((nt, 6)), umax=np.zeros(n), fmax=np.zeros(nn),
-                   imp_gap=np.empty(cap, np.int64), imp_t0=np.empty(cap), imp_v0=np.empty(cap),
-                   imp_vout=np.empty(cap), imp_fmax=np.empty(cap), imp_dur=np.empty(cap), imp_zeta=np.empty(cap),
-                   imp_e=np.empty(cap), stats=np.zeros(K.N_STATS, np.int64))
-        status, n_imp, t_reached = G.general_kernel(
+                   **_catalogue(cap))
+        return (*G.general_kernel(
             tab["ms_dof"], tab["ms_coef"], tab["ms_val"], tab["ms_a0"], tab["le_dof"], tab["le_coef"], tab["le_k"],
             tab["le_c"], int(tab["p"]), tab["dof_load"], system.dof_motion.astype(np.int64), tab["dof_infl"],
             tab["ne_dof"], tab["ne_coef"], tab["ne_size"], tab["ne_code"], tab["ne_par"], ne_gap, ne_lo, ne_hi,
             np.zeros((nn, N_STATE)), ag, moving, ground, np.asarray(system.u0, float), np.asarray(system.v0, float),
             float(dt), int(nsteps), float(nm.beta), float(nm.gamma), int(nm.contact_substeps), float(nm.rtol),
-            int(nm.max_iter), bool(store_history), **out)
-        if status == K.IMPACT_CAPACITY:
-            cap *= 4
-            continue
-        if status != K.OK:
-            raise IntegrationError(f"Newton-Raphson did not converge at t = {t_reached:.6g} s "
-                                   f"(try a smaller analysis.dt or more contact_substeps)")
-        break
+            int(nm.max_iter), bool(store_history), **out), out)
+
+    n_imp, out = _run_growing(run, cap)
     gap_cols = np.flatnonzero(ne_gap)
     force = np.zeros((nt, ng_all))
     force[:, live] = out["out_f"][:, gap_cols]

@@ -33,16 +33,15 @@ ONSET_GRADING = 6
 
 
 @njit(cache=True, inline="always")
-def _contact_step(t, t_end, dt, m_act, act_list, code, hsub, age, h_lev):
+def _contact_step(t, t_end, dt, m_act, act_list, code, hsub, age, h_lev, n_lev):
     """(h, lev): the next step inside the analysis step ending at t_end while gaps are closed.
 
     Each closed gap asks for substeps of at most hsub (its impact's duration / n_sub), on
-    the grid dt / 2^lev so that each size is factored once; NIVe's first substeps are
+    the grid dt / 2^lev (h_lev[:n_lev]) so that each size is factored once; NIVe's first substeps are
     graded (ONSET_GRADING).  An element whose hsub is inf (a storey) asks for none.  The
     step runs to the next grid point, absorbing a sliver before t_end.  Shared by both
     drivers; inlined (the fast driver's loop is sensitive to calls).
     """
-    n_lev = h_lev.size
     remaining = t_end - t
     h = remaining
     lev = 0

@@ -345,7 +345,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
         t_end = (step + 1) * dt
         while t_end - t > 1e-9 * dt:
             # ---- step size: the rest of the analysis step, or the contact substep grid
-            h, lev = _contact_step(t, t_end, dt, m_act, act, ne_code, hsub, age, h_lev)
+            h, lev = _contact_step(t, t_end, dt, m_act, act, ne_code, hsub, age, h_lev, N_LEVELS)
             target = -1
             landed = False
             located = False

@@ -80,6 +80,20 @@ def _parser() -> argparse.ArgumentParser:
     imp.add_argument("-o", "--output", help="the table (markdown); default: printed only")
     imp.add_argument("--figure", help="a PNG of measured against simulated force per trial")
     imp.add_argument("-q", "--quiet", action="store_true", help="no progress or table on the terminal")
+    dg = sub.add_parser("diagnose", help="locate where a simulation and a recording differ and name the physics "
+                                          "the model left out",
+                        description="Check the numerics, recalibrate the model's own parameters, locate the "
+                                    "residual (channels, windows, bands), try each missing physics "
+                                    "(distributed-mass, velocity-dependent-restitution, soil-structure-interaction, "
+                                    "inelastic-storey, spatially-varying-input) and keep what the data support.")
+    dg.add_argument("model", help="TOML model file")
+    dg.add_argument("recording", nargs="*", help="recording files (any format obspy reads)")
+    dg.add_argument("--channels", required=True, help="channel map (TOML [[channel]] tables)")
+    dg.add_argument("--trials", help="trials file ([[trial]] tables), instead of recording files")
+    dg.add_argument("--report", required=True, help="REPORT.json")
+    dg.add_argument("-o", "--output", help="the augmented model (.toml); default: MODEL_augmented.toml by the report")
+    dg.add_argument("--figure", help="PNG of recorded, simulated and diagnosed channels, mismatch marked")
+    dg.add_argument("-q", "--quiet", action="store_true", help="no progress or summary")
     from .study.query import add_query_parser
 
     add_query_parser(sub)
@@ -107,6 +121,8 @@ def main(argv=None) -> int:
             return _calibrate(args)
         if args.command == "impact":
             return _impact(args)
+        if args.command == "diagnose":
+            return _diagnose(args)
         if args.command == "query":
             from .study.query import cmd_query
 
@@ -176,6 +192,30 @@ def _calibrate(args) -> int:
     if not args.quiet:
         print(res.summary())
         print(f"  written to {out}")
+    return 0
+
+
+def _diagnose(args) -> int:
+    import warnings as _w
+
+    from ._output import check_writable
+    from .diagnose import diagnose
+    from .plausibility import PlausibilityWarning
+
+    check_writable(Path(args.report), key="--report", suffixes=(".json",))
+    if args.output:
+        check_writable(Path(args.output), key="--output", suffixes=(".toml",))
+    if args.figure:
+        check_writable(Path(args.figure), key="--figure", suffixes=(".png",))
+    if args.trials and args.recording:
+        raise InputError("give recording files or --trials, not both", key="recording")
+    with _w.catch_warnings():
+        _w.simplefilter("ignore", PlausibilityWarning)
+        res = diagnose(args.model, args.recording or None, channels=args.channels, trials=args.trials,
+                       report=args.report, output=args.output, figure=args.figure, progress=not args.quiet)
+    if not args.quiet:
+        print(res.summary())
+        print(f"  report: {args.report}; model: {res.augmented_model}")
     return 0
 
 

@@ -1,0 +1,296 @@
+"""``diagnose``: numerics first, then the base model recalibrated, the residual located, every hypothesis tried.
+
+1. Numerics: the base model at its own settings against half the step and twice the contact
+   substeps; if the difference is not small against the misfit, the finer settings are used
+   for everything after (a residual that shrinks with the step is numerics, not physics).
+2. The base model's own parameters recalibrated (storey stiffness factor and damping ratio
+   per building, gap sizes): if that explains the data, no physics is missing.
+3. The recalibrated residual located (``locate.py``): channels, windows, bands.
+4. Each hypothesis (``hypotheses.py``) added to the base model as given and its own parameters
+   fitted (the base ones stay nominal: a missing effect is told from wrong parameters by which
+   of the two explains the data with fewer parameters), from the best of three starts.
+   It is accepted only if it lowers the Bayesian information criterion computed with the
+   residual's effective sample size (n_eff from its lag-1 autocorrelation, as the
+   calibration's uncertainties; Schwarz 1978): BIC = n_eff ln(RSS / n) + p ln(n_eff), by more
+   than BIC_MARGIN, and lowers the mean NE by at least NE_GAIN.  Accepted hypotheses are
+   ranked by their BIC.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from .hypotheses import HYPOTHESES
+from .locate import locate
+
+__all__ = ["diagnose", "Diagnosis", "BIC_MARGIN", "NE_GAIN"]
+
+BIC_MARGIN = 10.0  # "very strong" evidence on Kass & Raftery's (1995) scale
+NE_GAIN = 0.1  # the mean NE must fall by at least a tenth
+
+
+@dataclass
+class Diagnosis:
+    """What ``diagnose`` found; ``report()`` is the REPORT.json content (the issue's field names)."""
+
+    mismatch: list
+    left_out: list
+    recalibrated: dict
+    ne_before: float
+    ne_after: float
+    augmented_model: str | None
+    model_text: str
+    numerics: dict
+    hypotheses: dict = field(default_factory=dict)
+    seconds: float = 0.0
+
+    def report(self) -> dict:
+        return {"mismatch": self.mismatch, "left_out": self.left_out, "recalibrated": self.recalibrated,
+                "fit": {"metric": "NE", "before": self.ne_before, "after": self.ne_after},
+                "augmented_model": self.augmented_model, "numerics": self.numerics,
+                "hypotheses": self.hypotheses, "seconds": self.seconds}
+
+    def summary(self) -> str:
+        lines = [f"diagnosis in {self.seconds:.0f} s: NE (mean over channels) {self.ne_before:.4f} (base model as "
+                 f"given) -> {self.ne_after:.4f}"]
+        n = self.numerics
+        lines.append(f"  numerics: NE between the model's settings and half the step {n['ne']:.2g} "
+                     f"({'sufficient' if n['sufficient'] else 'refined for the rest'})")
+        if self.left_out:
+            for item in self.left_out:
+                lines.append(f"  left out: {item['physics']} (confidence {item['confidence']:.2f}): {item['evidence']}")
+        else:
+            lines.append("  no physics is missing: recalibrating the base model's parameters explains the data")
+        for path, v in self.recalibrated.items():
+            lines.append(f"  recalibrated {path} = {v:.6g}")
+        for m in self.mismatch[:3]:
+            lines.append(f"  mismatch: {m['channel']} holds {m['residual_share']:.0%} of the residual, most in "
+                         f"{m['t_start']:.1f}-{m['t_end']:.1f} s, above the noise in {m['band_hz'][0]:.1f}-"
+                         f"{m['band_hz'][1]:.1f} Hz")
+        return "\n".join(lines)
+
+
+def _base_specs(data) -> list:
+    specs = []
+    for b in data.get("building", []):
+        specs.append(f"building.{b['name']}.storey_stiffness")
+        d = b.get("damping", {})
+        if isinstance(d, dict) and d.get("kind", "rayleigh") == "rayleigh":
+            d.setdefault("ratio", 0.05)
+            specs.append(f"building.{b['name']}.damping.ratio")
+    for i, _ in enumerate(data.get("gap", []), start=1):
+        specs.append(f"gap.{i}.size")
+    return specs
+
+
+def diagnose(model, recordings=None, *, channels, trials=None, report=None, output=None, figure=None,
+             progress=True, hypotheses=None, max_evaluations=400) -> Diagnosis:
+    """Locate where ``model`` and the recordings differ and name the physics the model left out.
+
+    Parameters as :func:`seispound.calibrate.calibrate`; ``report``: REPORT.json path;
+    ``output``: where the augmented model is written (default: MODEL_augmented.toml next to
+    the report, or not written); ``figure``: a PNG of recorded, simulated and augmented
+    channels with the located mismatch marked; ``hypotheses``: names to try (default all).
+    """
+    import json
+    import tomllib
+
+    from ..calibrate.api import Trial, load_trials
+    from ..calibrate.channels import load_channels
+    from ..calibrate.fit import calibrate_observer, normalised_errors, parse_fit
+    from ..calibrate.observe import Observer
+    from ..calibrate.recording import read_recording
+    from ..model import load_model
+
+    t0 = time.perf_counter()
+    if isinstance(model, (str, os.PathLike)):
+        model = load_model(model)
+    model.assembled()
+    chans = load_channels(channels, model) if isinstance(channels, (str, os.PathLike)) else list(channels)
+    if trials is not None:
+        trial_list = load_trials(trials, chans)
+    elif recordings is not None:
+        trial_list = [Trial(recording=read_recording(recordings, chans), name="recording")]
+    else:
+        raise InputError("give the recording files, or a trials file", key="recording")
+    chans = [c for c in chans if not (c.quantity == "acceleration" and c.floor == 0)]  # the input, not a response
+    base_data = tomllib.loads(model.text)
+    base = Path(model.source).parent if model.source else Path(".")
+    say = (lambda msg: print(f"  {msg}", file=sys.stderr, flush=True)) if progress else (lambda msg: None)
+
+    def ne_of(observer, overrides=()):
+        sims = observer.simulate(list(overrides))
+        return [normalised_errors(s, {c.id: t.recording.data[c.id] for c in chans})
+                for s, t in zip(sims, observer.trials)], sims
+
+    observer = Observer(base_data, base, chans, trial_list)
+    nes0, sims0 = ne_of(observer)
+    ne_before = float(np.mean([v for d in nes0 for v in d.values()]))
+    say(f"base model as given: NE {ne_before:.4f}")
+    # 1. numerics
+    data = copy.deepcopy(base_data)
+    an = data.setdefault("analysis", {})
+    fine = [("analysis.dt", float(an.get("dt", 0.005)) / 2.0),
+            ("analysis.contact_substeps", 2 * int(an.get("contact_substeps", 32)))]
+    an.setdefault("contact_substeps", int(an.get("contact_substeps", 32)))
+    observer = Observer(data, base, chans, trial_list)
+    sims_fine = observer.simulate(fine)
+    ne_num = float(np.mean([np.linalg.norm(sf[c.id] - s0[c.id]) / max(np.linalg.norm(t.recording.data[c.id]), 1e-300)
+                            for sf, s0, t in zip(sims_fine, sims0, trial_list) for c in chans]))
+    sufficient = ne_num <= 0.25 * ne_before
+    if not sufficient:
+        for path, value in fine:
+            from ..study.paths import set_value
+
+            set_value(data, path, value)
+    numerics = {"ne": ne_num, "sufficient": bool(sufficient), "dt": float(data["analysis"]["dt"]),
+                "contact_substeps": int(data["analysis"]["contact_substeps"])}
+    say(f"numerics: NE against half the step {ne_num:.2g} ({'sufficient' if sufficient else 'refined'})")
+    # 2. the base model recalibrated
+    obs = Observer(data, base, chans, trial_list)
+    base_params = parse_fit(_base_specs(data), data)
+    base_fit = calibrate_observer(obs, base_params, progress=False, max_evaluations=max_evaluations)
+    recal = tomllib.loads(base_fit.model_text)
+    n, n_eff = base_fit.n, base_fit.n_eff
+    rss_base = _rss(base_fit)
+    bic_base = n_eff * math.log(rss_base / n) + len(base_params) * math.log(n_eff)
+    say(f"base parameters recalibrated: NE {base_fit.ne_mean_after:.4f}")
+    # 3. locate the recalibrated residual
+    sims_recal = Observer(recal, base, chans, trial_list).simulate([])
+    first = trial_list[0]
+    mismatch = locate({c.id: sims_recal[0][c.id] - first.recording.data[c.id] for c in chans},
+                      {c.id: first.recording.data[c.id] for c in chans}, first.recording.dt)
+    # 4. hypotheses: each added to the base model as given (its nominal parameters) and fitted alone,
+    # from the best of a few starts across its bounds (the misfit of a missing effect has local minima)
+    tried, accepted = {}, []
+    for name in (hypotheses or HYPOTHESES):
+        hyp = HYPOTHESES[name]
+        aug, specs = hyp.augment(data)
+        try:
+            fit, params = _fit_hypothesis(aug, specs, base, chans, trial_list, max_evaluations)
+        except Exception as exc:  # an augmentation that cannot run is reported, not fatal
+            tried[name] = {"error": f"{type(exc).__name__}: {exc}"}
+            say(f"{name}: could not be fitted ({exc})")
+            continue
+        rss = _rss(fit)
+        bic = n_eff * math.log(rss / n) + len(params) * math.log(n_eff)
+        gain = 1.0 - fit.ne_mean_after / base_fit.ne_mean_after
+        ok = (bic_base - bic) > BIC_MARGIN and gain >= NE_GAIN
+        tried[name] = {"ne": fit.ne_mean_after, "delta_bic": bic - bic_base, "ne_gain": gain, "accepted": ok,
+                       "parameters": {p: v["value"] for p, v in fit.parameters.items()}}
+        say(f"{name}: NE {fit.ne_mean_after:.4f} ({gain:+.0%} against the recalibrated base), delta BIC "
+            f"{bic - bic_base:+.1f}{' -> accepted' if ok else ''}")
+        if ok:
+            accepted.append((bic, name, fit, hyp, gain))
+    accepted.sort(key=lambda a: a[0])
+    left_out = []
+    for bic, name, fit, hyp, gain in accepted:
+        conf = 1.0 / (1.0 + math.exp(-(bic_base - bic - BIC_MARGIN) / BIC_MARGIN))
+        left_out.append({"physics": name, "evidence": f"{hyp.what}: adding it lowers the mean NE from "
+                         f"{base_fit.ne_mean_after:.4f} to {fit.ne_mean_after:.4f} ({gain:.0%}) and the information "
+                         f"criterion by {bic_base - bic:.0f} (n_eff {n_eff:.0f}); expected signature: {hyp.signature}",
+                         "confidence": round(conf, 3)})
+    final = accepted[0][2] if accepted else base_fit
+    text = final.model_text
+    written = None
+    if output is not None or report is not None:
+        written = os.fspath(output) if output is not None else os.fspath(Path(report).with_name(
+            Path(model.source or "model").stem + "_augmented.toml"))
+        text = _rebased(text, base, Path(written).parent)
+    result = Diagnosis(mismatch=mismatch, left_out=left_out,
+                       recalibrated={p: v["value"] for p, v in base_fit.parameters.items()},
+                       ne_before=ne_before, ne_after=final.ne_mean_after, augmented_model=written, model_text=text,
+                       numerics=numerics, hypotheses=tried, seconds=time.perf_counter() - t0)
+    if written is not None:
+        Path(written).write_text(text, encoding="utf-8")
+    if figure is not None:
+        sims_final = Observer(tomllib.loads(final.model_text), base, chans, trial_list).simulate([])[0]
+        _figure(figure, first, sims0[0], sims_final, mismatch)
+    if report is not None:
+        Path(report).write_text(json.dumps(result.report(), indent=2), encoding="utf-8")
+    return result
+
+
+STARTS = (0.15, 0.5, 0.85)  # where in its (log-)range each effect parameter starts, for the best-of-three
+
+
+def _fit_hypothesis(aug, specs, base, chans, trial_list, max_evaluations):
+    """Fit an augmentation's own parameters, the base ones at their nominal values: the best of STARTS
+    (short fits), then a full fit from it.  Returns (fit, params)."""
+    from ..calibrate.fit import calibrate_observer, parse_fit
+    from ..calibrate.observe import Observer
+    from ..study.paths import set_value
+
+    best = None
+    for s in STARTS:
+        trial_data = copy.deepcopy(aug)
+        for spec in specs:
+            path, _, bounds = spec.partition("=")
+            lo, hi = (float(x) for x in bounds.split(":"))
+            value = lo * (hi / lo) ** s if lo > 0 else lo + s * (hi - lo)
+            set_value(trial_data, path, value)
+        params = parse_fit(specs, trial_data)
+        fit = calibrate_observer(Observer(trial_data, base, chans, trial_list), params, progress=False,
+                                 max_evaluations=max(20, max_evaluations // 8))
+        if best is None or fit.ne_mean_after < best[0].ne_mean_after:
+            best = (fit, trial_data)
+    import tomllib
+
+    start = tomllib.loads(best[0].model_text)
+    params = parse_fit(specs, start)
+    fit = calibrate_observer(Observer(start, base, chans, trial_list), params, progress=False,
+                             max_evaluations=max_evaluations)
+    return fit, params
+
+
+def _rss(fit) -> float:
+    """The fit's residual sum of squares (NE^2 summed over channels)."""
+    return float(sum(v * v for nes in fit.ne_after.values() for v in nes.values()))
+
+
+def _rebased(text, base, folder):
+    import tomllib
+
+    import tomli_w
+
+    data = tomllib.loads(text)
+    tables = [data.get("ground_motion", {})] + [b.get("ground_motion", {}) for b in data.get("building", [])
+                                                if isinstance(b.get("ground_motion"), dict)]
+    for t in tables:
+        if isinstance(t, dict) and isinstance(t.get("file"), str) and not os.path.isabs(t["file"]):
+            t["file"] = os.path.relpath(os.path.abspath(os.path.join(base, t["file"])), folder)
+    return tomli_w.dumps(data)
+
+
+def _figure(path, trial, base_sim, final_sim, mismatch):
+    """Recorded, base-as-given and final simulation of the channels holding most of the residual."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    top = mismatch[:3]
+    fig, axes = plt.subplots(len(top), 1, figsize=(10, 2.6 * len(top)), squeeze=False)
+    t = trial.recording.time
+    for ax, m in zip(axes[:, 0], top):
+        cid = m["channel"]
+        ax.plot(t, trial.recording.data[cid], "k", lw=1.2, label="recorded")
+        ax.plot(t, base_sim[cid], lw=0.8, label="base model")
+        ax.plot(t, final_sim[cid], lw=0.8, label="diagnosed model")
+        ax.axvspan(m["t_start"], m["t_end"], color="orange", alpha=0.2, label="largest residual")
+        ax.set_title(f"{cid}: {m['residual_share']:.0%} of the residual; above the noise in "
+                     f"{m['band_hz'][0]:.1f}-{m['band_hz'][1]:.1f} Hz", fontsize=9)
+        ax.set_xlabel("time [s]")
+        ax.legend(fontsize=7, loc="upper right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110, format="png")
+    plt.close(fig)

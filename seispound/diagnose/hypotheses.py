@@ -1,0 +1,104 @@
+"""The physics a model may have left out: each with the augmentation that adds it and the parameters it fits.
+
+An augmentation edits the model file's table (never the base model's own values) and
+names the dotted paths to fit with their bounds, in the calibration's ``PATH=lo:hi`` form.
+Where a physics needs a quantity the base model does not state (a floor's length along
+the line of impact, a footing's size), the augmentation assumes a stated default and fits
+the parameter that the data can see instead.
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass
+
+__all__ = ["HYPOTHESES", "Hypothesis"]
+
+
+@dataclass(frozen=True)
+class Hypothesis:
+    name: str
+    what: str  # what was left out, in words
+    signature: str  # what the residual should show
+
+    def augment(self, data: dict) -> tuple[dict, list]:
+        """(the augmented model table, the fit specs PATH=lo:hi)."""
+        out = copy.deepcopy(data)
+        return out, _AUGMENT[self.name](out)
+
+
+def _names(data):
+    return [b["name"] for b in data.get("building", [])]
+
+
+def _distributed_mass(d):
+    # every floor an axial rod, 20 m long in the line of impact (assumed), 4 segments; EA fitted
+    specs = []
+    for b in d["building"]:
+        b["floor_model"] = {"kind": "rod", "segments": 4, "length": 20.0, "axial_stiffness": 1e10,
+                            "axial_damping": 0.02}
+        specs.append(f"building.{b['name']}.floor_model.axial_stiffness=1e8:1e12")
+    return specs
+
+
+def _velocity_restitution(d):
+    e = d["contact"].get("restitution", 0.65)
+    e = e if isinstance(e, (int, float)) else 0.65
+    d["contact"]["restitution"] = {"form": "linear", "e0": float(min(e + 0.1, 0.98)), "slope": 0.5, "min": 0.05,
+                                   "max": 0.99}
+    return ["contact.restitution.e0=0.1:0.99", "contact.restitution.slope=0:20"]
+
+
+def _soil(d):
+    # a rigid footing (plan 15 m x 15 m, assumed) on soil of fitted shear-wave velocity, density 1900 kg/m^3,
+    # Poisson 0.3; foundation mass and rotary inertia from the building's floor masses
+    specs = []
+    for b in d["building"]:
+        m = b["floor_masses"]
+        total = float(sum(m)) if isinstance(m, list) else float(m) * int(b.get("floors", 1))
+        b["foundation"] = {"mass": 0.2 * total, "rotary_inertia": 0.2 * total * 15.0 ** 2 / 12.0,
+                           "soil": {"shear_wave_velocity": 200.0, "density": 1900.0, "poisson": 0.3},
+                           "footing": {"width": 15.0, "length": 15.0}}
+        specs.append(f"building.{b['name']}.foundation.soil.shear_wave_velocity=30:2000")
+    return specs
+
+
+def _inelastic(d):
+    specs = []
+    for b in d["building"]:
+        b["storey_law"] = {"kind": "bilinear", "yield_drift": 0.02, "post_yield_ratio": 0.05}
+        specs.append(f"building.{b['name']}.storey_law.yield_drift=0.0005:0.1")
+    return specs
+
+
+def _spatial(d):
+    # the free field is recorded at the first building: the others' motion delayed (wave passage)
+    specs = []
+    for b in d["building"][1:]:
+        b["ground_motion"] = {"delay": 0.01}
+        specs.append(f"building.{b['name']}.ground_motion.delay=0:0.3")
+    return specs
+
+
+_AUGMENT = {"distributed-mass": _distributed_mass, "velocity-dependent-restitution": _velocity_restitution,
+            "soil-structure-interaction": _soil, "inelastic-storey": _inelastic,
+            "spatially-varying-input": _spatial}
+
+HYPOTHESES = {
+    "distributed-mass": Hypothesis(
+        "distributed-mass", "the floors' distributed mass: axial waves and internal vibration of the floors at impacts",
+        "high-frequency residual on floor channels that starts at each impact"),
+    "velocity-dependent-restitution": Hypothesis(
+        "velocity-dependent-restitution", "a coefficient of restitution that changes with the impact velocity",
+        "residual concentrated in the impacts, their rebound velocities wrong in opposite directions for strong "
+        "and weak impacts"),
+    "soil-structure-interaction": Hypothesis(
+        "soil-structure-interaction", "a flexible foundation: sway and rocking on the soil",
+        "the first mode's period and damping off on every floor channel of a building, all record long"),
+    "inelastic-storey": Hypothesis(
+        "inelastic-storey", "storeys that yield",
+        "residual that grows after the strongest shaking, with a permanent drift in the roof displacement"),
+    "spatially-varying-input": Hypothesis(
+        "spatially-varying-input", "a different ground motion under a building (wave passage)",
+        "a building's floor channels out of phase with the model from the start, the free-field building right"),
+}

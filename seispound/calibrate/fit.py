@@ -162,7 +162,7 @@ def calibrate_observer(observer, params, progress=True, max_evaluations=None, wr
     hi = np.array([math.log(p.hi) if p.log else p.hi for p in params])
     y0 = np.array([math.log(p.start) if p.log else p.start for p in params])
     y0 = np.clip(y0, lo, hi)
-    recs = [t.recording.data for t in observer.trials]
+    recs = [{c.id: t.recording.data[c.id] for c in observer.channels} for t in observer.trials]
     norms = [{cid: max(np.linalg.norm(x), 1e-300) for cid, x in r.items()} for r in recs]
     t0 = time.perf_counter()
     history = []
@@ -183,13 +183,13 @@ def calibrate_observer(observer, params, progress=True, max_evaluations=None, wr
         return r
 
     sims0 = observer.simulate(overrides(y0))
-    ne_before = {t.name: normalised_errors(s, t.recording.data) for t, s in zip(observer.trials, sims0)}
+    ne_before = {t.name: normalised_errors(s, r) for t, s, r in zip(observer.trials, sims0, recs)}
     fit = least_squares(residual, y0, bounds=(lo, hi), x_scale="jac", method="trf",
                         max_nfev=max_evaluations, diff_step=1e-4)
     if progress:
         print(file=sys.stderr)
     sims = observer.simulate(overrides(fit.x))
-    ne_after = {t.name: normalised_errors(s, t.recording.data) for t, s in zip(observer.trials, sims)}
+    ne_after = {t.name: normalised_errors(s, r) for t, s, r in zip(observer.trials, sims, recs)}
     cov_y, n, n_eff = _covariance(fit, recs)
     xs = values(fit.x)
     sd_y = np.sqrt(np.clip(np.diag(cov_y), 0.0, None))

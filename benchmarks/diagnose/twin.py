@@ -91,7 +91,7 @@ class _Layout:
 
     def __init__(self, row):
         self.row = row
-        blocks, nodes_of, roof_of, storeys, gap_dofs = [], [], [], [], []
+        blocks, nodes_of, roof_of, gap_dofs = [], [], [], []
         n = 0
         for bi, b in enumerate(row.buildings):
             start = n

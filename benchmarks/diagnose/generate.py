@@ -1,0 +1,184 @@
+"""Write concealed-effect cases in the form of ``../shared/concealed``: ``python -m benchmarks.diagnose.generate OUT``.
+
+Each case is a neutral folder (``case-001`` ...) with ``model.toml`` (the base model: lumped,
+fixed-base, elastic, constant e, one input), ``ground_motion.mseed`` (the input with 1 % noise),
+``recording.mseed`` (every floor's absolute acceleration, the free field and the roofs'
+displacements, 1 % noise) and ``channels.toml``; the answers go to ``OUT/key.json`` only.
+Recordings come from ``twin.py`` (an independent solve_ivp solver), never from the package.
+
+Families: ``none`` (noise only), ``wrong-parameters`` (storey stiffness or gap size off; the
+label is none), and one per effect; ``--instances`` random draws each, half of them weak (the
+effect's size scaled so that its NE is a few times the noise).  Inputs: the bundled El
+Centro components, 20 s, scaled to a PGA of 0.35-0.45 g; 200 Hz, or 1 kHz where floors ring.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .twin import Building, Row, simulate
+
+REPO = Path(__file__).resolve().parents[2]
+FAMILIES = ("none", "wrong-parameters", "distributed-mass", "velocity-dependent-restitution",
+            "soil-structure-interaction", "inelastic-storey", "spatially-varying-input")
+
+
+def _record(rng, dt):
+    """A bundled El Centro component, 20 s from 1 s, scaled to PGA 0.35-0.45 g, on the grid dt."""
+    import obspy
+
+    name = rng.choice(["RSN6_IMPVALL.I_I-ELC180-hor1.AT2", "RSN6_IMPVALL.I_I-ELC270-hor2.AT2"])
+    path = REPO / "ground_motions" / name
+    if not path.exists():
+        path = REPO / "ground_motions" / "RSN6_IMPVALL.I_I-ELC180-hor1.AT2"
+    tr = obspy.read(str(path))[0]
+    a = tr.data.astype(float) * 9.80665
+    t0 = np.arange(a.size) * tr.stats.delta
+    t = 1.0 + np.arange(int(round(20.0 / dt)) + 1) * dt
+    x = np.interp(t, t0, a)
+    return x * (rng.uniform(0.35, 0.45) * 9.80665 / np.abs(x).max())
+
+
+def _row(rng, nb):
+    """Two or three uniform-ish buildings of 4-10 storeys, 3 m storeys, gaps 1-2 cm."""
+    bs = []
+    for i in range(nb):
+        n = int(rng.integers(4, 11))
+        m = float(rng.uniform(0.8e5, 1.4e5))
+        k = float(rng.uniform(1.0e8, 2.2e8))
+        bs.append(Building("ABC"[i], [m] * (n - 1) + [0.85 * m], list(np.linspace(k, 0.6 * k, n)), ratio=0.05))
+    gaps = [(i, i + 1, float(rng.uniform(0.01, 0.02))) for i in range(nb - 1)]
+    return Row(bs, gaps)
+
+
+def _apply(family, row, rng, strength):
+    """Put the family's effect into the generating row (and, for wrong-parameters, the base model's error)."""
+    base_edit = {}
+    if family == "wrong-parameters":
+        b = rng.integers(len(row.buildings))
+        base_edit = {"building": int(b), "stiffness_factor": float(rng.choice([0.8, 1.2]))}
+    elif family == "inelastic-storey":
+        for b in row.buildings:
+            b.yield_drift = [float(rng.uniform(0.004, 0.01) / strength)] * b.n
+    elif family == "spatially-varying-input":
+        for b in row.buildings[1:]:
+            b.delay = float(rng.uniform(0.02, 0.08) * strength)
+    elif family == "velocity-dependent-restitution":
+        e0, slope = 0.9, float(rng.uniform(0.8, 2.0) * strength)
+        row.restitution = lambda v, e0=e0, s=slope: min(max(e0 - s * v, 0.2), 0.95)
+    elif family == "soil-structure-interaction":
+        for b in row.buildings:
+            mt = sum(b.masses)
+            it = sum(m * (3.0 * (f + 1)) ** 2 for f, m in enumerate(b.masses))  # the floors' rocking inertia
+            kx = float(rng.uniform(2.0, 6.0) * 1e8 / strength)
+            kt = kx * 60.0
+            b.foundation = dict(kx=kx, cx=0.1 * math.sqrt(kx * mt), kt=kt, ct=0.1 * math.sqrt(kt * it),
+                                m0=0.2 * mt, I0=0.2 * mt * 15.0 ** 2 / 12.0)
+    elif family == "distributed-mass":
+        for b in row.buildings:
+            k_link = float(rng.uniform(2e9, 6e9) * strength)
+            w1 = _first_axial(b.masses[0], k_link, 5)
+            b.chain = dict(nodes=5, axial_stiffness=k_link, axial_damping=2 * 0.02 / w1 * k_link)  # 2 % in mode 1
+    return base_edit
+
+
+def _first_axial(m, k, nodes):
+    """First nonzero free-free circular frequency of a chain of ``nodes`` lumped masses (half at the ends)."""
+    from scipy.linalg import eigh
+
+    w = np.full(nodes, m / (nodes - 1))
+    w[[0, -1]] *= 0.5
+    K = np.zeros((nodes, nodes))
+    for p in range(nodes - 1):
+        K[p:p + 2, p:p + 2] += k * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    return math.sqrt(eigh(K, np.diag(w), eigvals_only=True)[1])
+
+
+def _model_text(row, base_edit, dt, e):
+    lines = ['title = "Row of %d buildings, recorded earthquake response"' % len(row.buildings), "",
+             "[analysis]", f"dt = {dt}", "duration = 20.0", "newmark = { beta = 0.25, gamma = 0.5 }", "",
+             "[ground_motion]", 'file = "ground_motion.mseed"', "trace = 0", 'units = "m/s2"', "scale = 1.0", "",
+             "[contact]", 'law = "Hd"', f"stiffness = {row.k_contact}", f"restitution = {e}", ""]
+    for i, b in enumerate(row.buildings):
+        f = base_edit.get("stiffness_factor", 1.0) if base_edit.get("building") == i else 1.0
+        lines += ["[[building]]", f'name = "{b.name}"', f"floor_masses = {list(map(float, b.masses))}",
+                  f"storey_stiffness = {[float(k * f) for k in b.stiffness]}", f"storey_heights = {[3.0] * b.n}",
+                  'damping = { kind = "rayleigh", ratio = 0.05, modes = [1, 2] }', ""]
+    for li, ri, size in row.gaps:
+        lines += ["[[gap]]", f'between = ["{row.buildings[li].name}", "{row.buildings[ri].name}"]', f"size = {size}",
+                  ""]
+    return "\n".join(lines)
+
+
+def write_case(folder: Path, family: str, seed: int, strength: float = 1.0) -> dict:
+    """Generate one case into ``folder``; return its key (family, label, seed, strength, impacts)."""
+    import obspy
+
+    rng = np.random.default_rng(seed)
+    row = _row(rng, int(rng.integers(2, 4)))
+    base_edit = _apply(family, row, rng, strength)
+    dt = 0.001 if family == "distributed-mass" else 0.005
+    ag = _record(rng, 0.005)
+    t_ag = np.arange(ag.size) * 0.005
+    t = np.arange(int(round(20.0 / dt)) + 1) * dt
+    res = simulate(row, t_ag, ag, t)
+    folder.mkdir(parents=True, exist_ok=True)
+    noisy = lambda x: x + 0.01 * np.sqrt(np.mean(x * x)) * rng.standard_normal(x.size)  # noqa: E731
+    ag_rec = noisy(ag)
+
+    def trace(cid, x, delta):
+        net, sta, loc, cha = cid.split(".")
+        return obspy.Trace(np.asarray(x, np.float64), header=dict(network=net, station=sta, location=loc, channel=cha,
+                                                                  delta=delta,
+                                                                  starttime=obspy.UTCDateTime(2021, 3, 1)))
+
+    obspy.Stream([trace("XX.A.00.HNX", ag_rec, 0.005)]).write(str(folder / "ground_motion.mseed"), format="MSEED",
+                                                               encoding="FLOAT64")
+    chans, st = [], obspy.Stream()
+    free = np.interp(t, t_ag, ag_rec)
+    st += trace("XX.A.00.HNX", free, dt)
+    chans.append(("XX.A.00.HNX", "acceleration", "A", 0))
+    for b in row.buildings:
+        for f in range(1, b.n + 1):
+            cid = f"XX.{b.name}.{f:02d}.HNX"
+            st += trace(cid, noisy(res["acc"][(b.name, f)]), dt)
+            chans.append((cid, "acceleration", b.name, f))
+        cid = f"XX.{b.name}.{b.n:02d}.HYX"
+        st += trace(cid, noisy(res["roof"][b.name]), dt)
+        chans.append((cid, "displacement", b.name, b.n))
+    st.write(str(folder / "recording.mseed"), format="MSEED", encoding="FLOAT64")
+    (folder / "channels.toml").write_text("\n".join(
+        f'[[channel]]\nid = "{c}"\nquantity = "{q}"\nbuilding = "{b}"\nfloor = {f}\n' for c, q, b, f in chans))
+    e = row.restitution if not callable(row.restitution) else 0.65
+    (folder / "model.toml").write_text(_model_text(row, base_edit, dt, e))
+    label = "none" if family in ("none", "wrong-parameters") else family
+    return dict(family=family, label=label, seed=seed, strength=strength, impacts=res["impacts"])
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("out")
+    ap.add_argument("--instances", type=int, default=2)
+    ap.add_argument("--families", default=",".join(FAMILIES))
+    args = ap.parse_args(argv)
+    out = Path(args.out)
+    rng = np.random.default_rng(2026)
+    keys, k = {}, 0
+    for fam in args.families.split(","):
+        for i in range(args.instances):
+            k += 1
+            name = f"case-{k:03d}"
+            strength = 1.0 if i % 2 == 0 else 0.4  # every other instance weak
+            keys[name] = write_case(out / name, fam, int(rng.integers(1 << 30)), strength)
+            print(name, keys[name], flush=True)
+    (out / "key.json").write_text(json.dumps(keys, indent=2))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -60,6 +60,26 @@ def _read_text(mpath, path, key):
     return mpath.read_text(encoding="utf-8")
 
 
+def load_inputs(model, recordings, channels, trials):
+    """(model, channels, trials): the model read and valid, its channel map, and the trials (one per
+    recording set); what ``calibrate`` and ``diagnose`` both start from."""
+    from ..model import load_model
+    from .channels import load_channels
+    from .recording import read_recording
+
+    if isinstance(model, (str, os.PathLike)):
+        model = load_model(model)
+    if not model.text:
+        raise InputError("the model must come from a model file (its text is what is fitted)", key="model")
+    model.assembled()  # valid as given
+    chans = load_channels(channels, model) if isinstance(channels, (str, os.PathLike)) else list(channels)
+    if trials is not None:
+        return model, chans, load_trials(trials, chans)
+    if recordings is not None:
+        return model, chans, [Trial(recording=read_recording(recordings, chans), name="recording")]
+    raise InputError("give the recording files, or a trials file", key="recording")
+
+
 def calibrate(model, recordings=None, *, channels, fit, trials=None, progress=True, max_evaluations=None,
               output=None):
     """Fit ``fit`` (``PATH[=lo:hi]`` strings) so that ``model`` reproduces the recordings.
@@ -89,23 +109,9 @@ def calibrate(model, recordings=None, *, channels, fit, trials=None, progress=Tr
     """
     import tomllib
 
-    from ..model import load_model
-    from .channels import load_channels
     from .fit import calibrate_observer, parse_fit
-    from .recording import read_recording
 
-    if isinstance(model, (str, os.PathLike)):
-        model = load_model(model)
-    if not model.text:
-        raise InputError("the model must come from a model file (its text is what is calibrated)", key="model")
-    model.assembled()  # valid as given
-    chans = load_channels(channels, model) if isinstance(channels, (str, os.PathLike)) else list(channels)
-    if trials is not None:
-        trial_list = load_trials(trials, chans)
-    elif recordings is not None:
-        trial_list = [Trial(recording=read_recording(recordings, chans), name="recording")]
-    else:
-        raise InputError("give the recording files, or a trials file", key="recording")
+    model, chans, trial_list = load_inputs(model, recordings, channels, trials)
     data = tomllib.loads(model.text)
     base = Path(model.source).parent if model.source else Path(".")
     params = parse_fit(list(fit), data)

@@ -173,8 +173,12 @@ def calibrate_observer(observer, params, progress=True, max_evaluations=None, wr
     def overrides(y):
         return [(p.path, p.value_at(base_values[p.path], x)) for p, x in zip(params, values(y))]
 
+    first = []  # the simulation at the start: least_squares evaluates there first
+
     def residual(y):
         sims = observer.simulate(overrides(y))
+        if not first:
+            first.append(sims)
         r = np.concatenate([(s[cid] - rec[cid]) / nrm[cid] for s, rec, nrm in zip(sims, recs, norms) for cid in rec])
         history.append((values(y), float(r @ r)))
         if progress:
@@ -182,10 +186,10 @@ def calibrate_observer(observer, params, progress=True, max_evaluations=None, wr
                   flush=True)
         return r
 
-    sims0 = observer.simulate(overrides(y0))
-    ne_before = {t.name: normalised_errors(s, r) for t, s, r in zip(observer.trials, sims0, recs)}
     fit = least_squares(residual, y0, bounds=(lo, hi), x_scale="jac", method="trf",
                         max_nfev=max_evaluations, diff_step=1e-4)
+    sims0 = first[0]
+    ne_before = {t.name: normalised_errors(s, r) for t, s, r in zip(observer.trials, sims0, recs)}
     if progress:
         print(file=sys.stderr)
     sims = observer.simulate(overrides(fit.x))

@@ -28,7 +28,6 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
 from .hypotheses import HYPOTHESES
 from .locate import locate
 
@@ -104,24 +103,12 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     import json
     import tomllib
 
-    from ..calibrate.api import Trial, load_trials
-    from ..calibrate.channels import load_channels
+    from ..calibrate.api import load_inputs
     from ..calibrate.fit import calibrate_observer, normalised_errors, parse_fit
     from ..calibrate.observe import Observer
-    from ..calibrate.recording import read_recording
-    from ..model import load_model
 
     t0 = time.perf_counter()
-    if isinstance(model, (str, os.PathLike)):
-        model = load_model(model)
-    model.assembled()
-    chans = load_channels(channels, model) if isinstance(channels, (str, os.PathLike)) else list(channels)
-    if trials is not None:
-        trial_list = load_trials(trials, chans)
-    elif recordings is not None:
-        trial_list = [Trial(recording=read_recording(recordings, chans), name="recording")]
-    else:
-        raise InputError("give the recording files, or a trials file", key="recording")
+    model, chans, trial_list = load_inputs(model, recordings, channels, trials)
     chans = [c for c in chans if not (c.quantity == "acceleration" and c.floor == 0)]  # the input, not a response
     base_data = tomllib.loads(model.text)
     base = Path(model.source).parent if model.source else Path(".")

@@ -360,12 +360,11 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
                     lv = lev
                 elif abs(h - dt) <= 1e-9 * dt:
                     lv = 0
+                if lv >= 0:
+                    h = h_lev[lv]
                 cm = 1.0 / (beta * h * h)
                 cc = gamma / (beta * h)
                 if lv >= 0:
-                    h = h_lev[lv]
-                    cm = 1.0 / (beta * h * h)
-                    cc = gamma / (beta * h)
                     if not have_lev[lv]:
                         if not _factor(cm, cc, lin, p, L_lev[lv]):
                             return NEWTON_FAILED, n_imp, t

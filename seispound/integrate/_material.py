@@ -48,10 +48,6 @@ BW_SUBINCREMENT = 0.02
 BW_MAX_SUB = 256
 
 
-@njit(cache=True)
-def is_hysteretic(code):
-    """True for the storey laws with history (their codes start at BILINEAR)."""
-    return code >= BILINEAR
 
 
 @njit(cache=True)

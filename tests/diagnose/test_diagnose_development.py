@@ -17,7 +17,7 @@ import pytest
 from seispound.calibrate.channels import Channel
 from seispound.calibrate.observe import Observer, Trial
 from seispound.calibrate.recording import Recording
-from tests._models import REPO, short_copy
+from tests._models import short_copy
 
 
 def _case(folder, effect):

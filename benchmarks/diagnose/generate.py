@@ -6,10 +6,13 @@ fixed-base, elastic, constant e, one input), ``ground_motion.mseed`` (the input 
 displacements, 1 % noise) and ``channels.toml``; the answers go to ``OUT/key.json`` only.
 Recordings come from ``twin.py`` (an independent solve_ivp solver), never from the package.
 
-Families: ``none`` (noise only), ``wrong-parameters`` (storey stiffness or gap size off; the
-label is none), and one per effect; ``--instances`` random draws each, half of them weak (the
-effect's size scaled so that its NE is a few times the noise).  Inputs: the bundled El
-Centro components, 20 s, scaled to a PGA of 0.35-0.45 g; 200 Hz, or 1 kHz where floors ring.
+Families: ``none`` (noise only), ``wrong-parameters`` (a storey stiffness and a gap size off
+in the base model; the label is none), and one per effect; ``--instances`` random draws each,
+every other one weak: the effect's size scaled down (a search over a strength factor on the
+first 8 s) until the effect's own NE, between the row with and without it, is 2-5 times the
+1 % noise (target 3.5 %).  The key records each case's effect NE over the whole record.
+Inputs: the bundled El Centro components, 20 s, scaled to a PGA of 0.35-0.45 g; 200 Hz, or
+1 kHz where floors ring.
 """
 
 from __future__ import annotations
@@ -28,8 +31,12 @@ FAMILIES = ("none", "wrong-parameters", "distributed-mass", "velocity-dependent-
             "soil-structure-interaction", "inelastic-storey", "spatially-varying-input")
 
 
-def _record(rng, dt):
-    """A bundled El Centro component, 20 s from 1 s, scaled to PGA 0.35-0.45 g, on the grid dt."""
+def _record(rng, dt, duration=20.0):
+    """A bundled El Centro component, its first ``duration`` s, scaled to PGA 0.35-0.45 g, on the grid dt.
+
+    Processed as a record is before use: a 1 s cosine taper at the start, so that the motion
+    starts from rest (a record that starts mid-shaking puts a velocity step into a delayed copy).
+    """
     import obspy
 
     name = rng.choice(["RSN6_IMPVALL.I_I-ELC180-hor1.AT2", "RSN6_IMPVALL.I_I-ELC270-hor2.AT2"])
@@ -39,8 +46,8 @@ def _record(rng, dt):
     tr = obspy.read(str(path))[0]
     a = tr.data.astype(float) * 9.80665
     t0 = np.arange(a.size) * tr.stats.delta
-    t = 1.0 + np.arange(int(round(20.0 / dt)) + 1) * dt
-    x = np.interp(t, t0, a)
+    t = np.arange(round(duration / dt) + 1) * dt
+    x = np.interp(t, t0, a) * np.where(t < 1.0, 0.5 - 0.5 * np.cos(np.pi * np.minimum(t, 1.0)), 1.0)
     return x * (rng.uniform(0.35, 0.45) * 9.80665 / np.abs(x).max())
 
 
@@ -61,7 +68,8 @@ def _apply(family, row, rng, strength):
     base_edit = {}
     if family == "wrong-parameters":
         b = rng.integers(len(row.buildings))
-        base_edit = {"building": int(b), "stiffness_factor": float(rng.choice([0.8, 1.2]))}
+        base_edit = {"building": int(b), "stiffness_factor": 1.0 + strength * float(rng.choice([-0.2, 0.2])),
+                     "gap_factor": 1.0 + strength * float(rng.choice([-0.3, 0.4]))}
     elif family == "inelastic-storey":
         for b in row.buildings:
             b.yield_drift = [float(rng.uniform(0.004, 0.01) / strength)] * b.n
@@ -77,13 +85,13 @@ def _apply(family, row, rng, strength):
             it = sum(m * (3.0 * (f + 1)) ** 2 for f, m in enumerate(b.masses))  # the floors' rocking inertia
             kx = float(rng.uniform(2.0, 6.0) * 1e8 / strength)
             kt = kx * 60.0
-            b.foundation = dict(kx=kx, cx=0.1 * math.sqrt(kx * mt), kt=kt, ct=0.1 * math.sqrt(kt * it),
-                                m0=0.2 * mt, I0=0.2 * mt * 15.0 ** 2 / 12.0)
+            b.foundation = {"kx": kx, "cx": 0.1 * math.sqrt(kx * mt), "kt": kt, "ct": 0.1 * math.sqrt(kt * it),
+                                "m0": 0.2 * mt, "I0": 0.2 * mt * 15.0 ** 2 / 12.0}
     elif family == "distributed-mass":
         for b in row.buildings:
-            k_link = float(rng.uniform(2e9, 6e9) * strength)
+            k_link = float(rng.uniform(2e9, 6e9) / strength)
             w1 = _first_axial(b.masses[0], k_link, 5)
-            b.chain = dict(nodes=5, axial_stiffness=k_link, axial_damping=2 * 0.02 / w1 * k_link)  # 2 % in mode 1
+            b.chain = {"nodes": 5, "axial_stiffness": k_link, "axial_damping": 2 * 0.02 / w1 * k_link}  # 2 % in mode 1
     return base_edit
 
 
@@ -99,9 +107,9 @@ def _first_axial(m, k, nodes):
     return math.sqrt(eigh(K, np.diag(w), eigvals_only=True)[1])
 
 
-def _model_text(row, base_edit, dt, e):
+def _model_text(row, base_edit, dt, e, duration=20.0):
     lines = ['title = "Row of %d buildings, recorded earthquake response"' % len(row.buildings), "",
-             "[analysis]", f"dt = {dt}", "duration = 20.0", "newmark = { beta = 0.25, gamma = 0.5 }", "",
+             "[analysis]", f"dt = {dt}", f"duration = {duration}", "newmark = { beta = 0.25, gamma = 0.5 }", "",
              "[ground_motion]", 'file = "ground_motion.mseed"', "trace = 0", 'units = "m/s2"', "scale = 1.0", "",
              "[contact]", 'law = "Hd"', f"stiffness = {row.k_contact}", f"restitution = {e}", ""]
     for i, b in enumerate(row.buildings):
@@ -110,32 +118,83 @@ def _model_text(row, base_edit, dt, e):
                   f"storey_stiffness = {[float(k * f) for k in b.stiffness]}", f"storey_heights = {[3.0] * b.n}",
                   'damping = { kind = "rayleigh", ratio = 0.05, modes = [1, 2] }', ""]
     for li, ri, size in row.gaps:
+        size *= base_edit.get("gap_factor", 1.0)
         lines += ["[[gap]]", f'between = ["{row.buildings[li].name}", "{row.buildings[ri].name}"]', f"size = {size}",
                   ""]
     return "\n".join(lines)
 
 
-def write_case(folder: Path, family: str, seed: int, strength: float = 1.0) -> dict:
-    """Generate one case into ``folder``; return its key (family, label, seed, strength, impacts)."""
+def _draw(family, seed, strength, buildings=None):
+    """The generating row and the base model's edit; the same draws whatever the strength."""
+    rng = np.random.default_rng(seed)
+    nb = int(rng.integers(2, 4))
+    row = _row(rng, buildings or nb)
+    return row, _apply(family, row, rng, strength)
+
+
+def _effect_ne(family, seed, strength, t_ag, ag, t, with_effect=None, buildings=None):
+    """Mean NE over the recorded channels between the row with the effect and the base model's row (no noise)."""
+    if with_effect is None:
+        with_effect = simulate(_draw(family, seed, strength, buildings)[0], t_ag, ag, t)
+    row = _draw("none", seed, 1.0, buildings)[0]
+    edit = _draw(family, seed, strength, buildings)[1]
+    if edit:  # wrong-parameters: the base model's row has the wrong stiffness and gap sizes
+        b = row.buildings[edit["building"]]
+        b.stiffness = [k * edit["stiffness_factor"] for k in b.stiffness]
+        row.gaps = [(li, ri, size * edit["gap_factor"]) for li, ri, size in row.gaps]
+    base = simulate(row, t_ag, ag, t)
+    ne = [np.linalg.norm(with_effect[q][k] - base[q][k]) / np.linalg.norm(with_effect[q][k])
+          for q in ("acc", "roof") for k in with_effect[q]]
+    return float(np.mean(ne))
+
+
+def _weak_strength(family, seed, t_ag, ag, dt, buildings=None, target=0.035, lo=0.02, hi=0.05):
+    """The strength in (0, 1] whose effect NE over the first 8 s is nearest ``target``: a secant search on
+    log NE against log strength (at most 5 runs), from strength 0.1."""
+    t = np.arange(round(8.0 / dt) + 1) * dt
+    tried = []
+    s = 0.1
+    for _ in range(5):
+        ne = max(_effect_ne(family, seed, s, t_ag, ag, t, buildings=buildings), 1e-6)
+        tried.append((abs(math.log(ne / target)), s, ne))
+        if lo <= ne <= hi:
+            break
+        if len(tried) == 1:
+            slope = 1.0
+        else:
+            (_, s0, n0), (_, s1, n1) = tried[-2], tried[-1]
+            slope = math.log(n1 / n0) / math.log(s1 / s0) if s1 != s0 and n1 != n0 else 1.0
+            slope = slope if slope > 0.2 else 1.0  # a non-monotone step: fall back to proportional
+        s = float(np.clip(s * (target / ne) ** (1.0 / slope), 1e-4, 1.0))
+    return min(tried)[1]
+
+
+def write_case(folder: Path, family: str, seed: int, weak: bool = False, duration: float = 20.0,
+               buildings: int | None = None) -> dict:
+    """Generate one case into ``folder``; return its key (family, label, seed, strength, effect NE, impacts).
+
+    ``buildings``: the row's size (default: drawn, 2 or 3); ``duration``: seconds of record.
+    """
     import obspy
 
-    rng = np.random.default_rng(seed)
-    row = _row(rng, int(rng.integers(2, 4)))
-    base_edit = _apply(family, row, rng, strength)
     dt = 0.001 if family == "distributed-mass" else 0.005
-    ag = _record(rng, 0.005)
+    ag = _record(np.random.default_rng(seed + 1), 0.005, duration)
     t_ag = np.arange(ag.size) * 0.005
-    t = np.arange(int(round(20.0 / dt)) + 1) * dt
+    strength = _weak_strength(family, seed, t_ag, ag, dt, buildings) if weak and family not in ("none",) else 1.0
+    row, base_edit = _draw(family, seed, strength, buildings)
+    rng = np.random.default_rng(seed + 2)  # the noise
+    t = np.arange(round(duration / dt) + 1) * dt
     res = simulate(row, t_ag, ag, t)
+    effect_ne = 0.0 if family == "none" else _effect_ne(family, seed, strength, t_ag, ag, t, res, buildings)
     folder.mkdir(parents=True, exist_ok=True)
-    noisy = lambda x: x + 0.01 * np.sqrt(np.mean(x * x)) * rng.standard_normal(x.size)  # noqa: E731
+    noisy = lambda x: x + 0.01 * np.sqrt(np.mean(x * x)) * rng.standard_normal(x.size)
     ag_rec = noisy(ag)
 
     def trace(cid, x, delta):
         net, sta, loc, cha = cid.split(".")
-        return obspy.Trace(np.asarray(x, np.float64), header=dict(network=net, station=sta, location=loc, channel=cha,
-                                                                  delta=delta,
-                                                                  starttime=obspy.UTCDateTime(2021, 3, 1)))
+        return obspy.Trace(np.asarray(x, np.float64), header={"network": net, "station": sta, "location": loc, "channel": cha,
+                                                                  "delta": delta,
+                                                                  "starttime": obspy.UTCDateTime(2021, 3, 1)})
 
     obspy.Stream([trace("XX.A.00.HNX", ag_rec, 0.005)]).write(str(folder / "ground_motion.mseed"), format="MSEED",
                                                                encoding="FLOAT64")
@@ -155,9 +214,10 @@ def write_case(folder: Path, family: str, seed: int, strength: float = 1.0) -> d
     (folder / "channels.toml").write_text("\n".join(
         f'[[channel]]\nid = "{c}"\nquantity = "{q}"\nbuilding = "{b}"\nfloor = {f}\n' for c, q, b, f in chans))
     e = row.restitution if not callable(row.restitution) else 0.65
-    (folder / "model.toml").write_text(_model_text(row, base_edit, dt, e))
+    (folder / "model.toml").write_text(_model_text(row, base_edit, dt, e, duration))
     label = "none" if family in ("none", "wrong-parameters") else family
-    return dict(family=family, label=label, seed=seed, strength=strength, impacts=res["impacts"])
+    return {"family": family, "label": label, "seed": seed, "strength": round(strength, 4), "effect_ne": effect_ne,
+                "impacts": res["impacts"]}
 
 
 def main(argv=None) -> int:
@@ -165,18 +225,21 @@ def main(argv=None) -> int:
     ap.add_argument("out")
     ap.add_argument("--instances", type=int, default=2)
     ap.add_argument("--families", default=",".join(FAMILIES))
+    ap.add_argument("--first", type=int, default=1, help="the first case's number")
+    ap.add_argument("--seed", type=int, default=2026)
     args = ap.parse_args(argv)
     out = Path(args.out)
-    rng = np.random.default_rng(2026)
-    keys, k = {}, 0
+    rng = np.random.default_rng(args.seed)
+    out.mkdir(parents=True, exist_ok=True)
+    keys, k = {}, args.first - 1
+    key_file = out / ("key.json" if args.first == 1 else f"key-{args.first:03d}.json")
     for fam in args.families.split(","):
         for i in range(args.instances):
             k += 1
             name = f"case-{k:03d}"
-            strength = 1.0 if i % 2 == 0 else 0.4  # every other instance weak
-            keys[name] = write_case(out / name, fam, int(rng.integers(1 << 30)), strength)
+            keys[name] = write_case(out / name, fam, int(rng.integers(1 << 30)), weak=i % 2 == 1)
             print(name, keys[name], flush=True)
-    (out / "key.json").write_text(json.dumps(keys, indent=2))
+            key_file.write_text(json.dumps(keys, indent=2))  # as it goes: a run can start early
     return 0
 
 

@@ -65,7 +65,7 @@ def hunt_crossley_zeta(k, e, v0):
     """zeta [N s/m^2.5] from seed Eq. 8, (1 + e) = x ln|(x + 1)/(x - e)|, x = k / (zeta v0), on x > e."""
     if e >= 1.0:
         return 0.0
-    f = lambda x: x * math.log((x + 1.0) / (x - e)) - (1.0 + e)  # noqa: E731
+    f = lambda x: x * math.log((x + 1.0) / (x - e)) - (1.0 + e)
     x = brentq(f, e * (1 + 1e-12) + 1e-300, 1e6)
     return k / (x * v0)
 
@@ -218,7 +218,7 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8):
             if closed[g]:
                 d, r = gap_state(g, y)
                 F = max(row.k_contact * max(d, 0.0) ** 1.5 + zeta[g] * max(d, 0.0) ** 1.5 * r, 0.0)
-                li, i, ri, j, _, _ = L.gap_dofs[g]
+                _li, i, _ri, j, _, _ = L.gap_dofs[g]
                 f -= F * Tt[:, i]
                 f += F * Tt[:, j]
         return f, dz

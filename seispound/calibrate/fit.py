@@ -47,13 +47,16 @@ class FitParameter:
         return [v * x for v in base] if self.factor else x
 
 
+_LINEAR_KEYS = ("restitution", "e0", "e_inf", "e_ref", "min", "max", "ratio", "size")  # fitted on a linear scale
+
+
 def default_bounds(path: str, value) -> tuple[float, float, bool]:
     """(lo, hi, log) for a path when --fit gives none (documented in the README)."""
     last = path.split(".")[-1]
     if isinstance(value, list):
         return 0.2, 5.0, True  # a factor on a list: masses, stiffnesses per storey
     v = float(value)
-    if last in ("restitution", "e0", "e_inf", "e_ref", "min", "max"):
+    if last in _LINEAR_KEYS[:6]:
         return 0.05, 0.99, False
     if last == "ratio":
         return 0.001, 0.3, False
@@ -83,13 +86,14 @@ def parse_fit(specs, model_data) -> list[FitParameter]:
             raise InputError("a list path must hold numbers (one factor is fitted on it)", key=path)
         if not is_list and (isinstance(value, bool) or not isinstance(value, (int, float))):
             raise InputError(f"must be a number or a list of numbers to fit, the model has {value!r}", key=path)
-        lo, hi, log = default_bounds(path, value)
         if bounds:
             try:
                 lo, hi = (float(x) for x in bounds.split(":"))
             except ValueError:
                 raise InputError(f"bounds must read lo:hi, got {bounds!r}", key=path) from None
-            log = log and lo > 0
+            log = lo > 0 and (is_list or path.split(".")[-1] not in _LINEAR_KEYS)
+        else:
+            lo, hi, log = default_bounds(path, value)
         start = 1.0 if is_list else float(value)
         if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
             raise InputError(f"bounds must be finite with lo < hi, got {lo:g}:{hi:g}", key=path)
@@ -151,8 +155,17 @@ def normalised_errors(sim, rec) -> dict:
     return {cid: float(np.linalg.norm(sim[cid] - x) / max(np.linalg.norm(x), 1e-300)) for cid, x in rec.items()}
 
 
-def calibrate_observer(observer, params, progress=True, max_evaluations=None, write_base=None) -> CalibrationResult:
-    """Fit ``params`` (FitParameters) through ``observer`` (observe.Observer); see the module docstring."""
+def calibrate_observer(observer, params, progress=True, max_evaluations=None, write_base=None,
+                       tolerance=1e-8, step_fraction=None) -> CalibrationResult:
+    """Fit ``params`` (FitParameters) through ``observer`` (observe.Observer); see the module docstring.
+
+    ``tolerance``: least_squares' ftol and gtol (its default 1e-8; a model comparison that needs
+    the misfit to a few parts in 10^4 uses a looser one and fewer simulations).
+    ``step_fraction``: the finite-difference step of the Jacobian as a fraction of each
+    parameter's (log-)range, instead of 1e-4 of its (log-)value: a pounding response is rough
+    on the scale of tiny steps (an impact a substep earlier or later), so a step too small
+    gives a gradient of the wrong sign.
+    """
     from scipy.optimize import least_squares
 
     from ..study.paths import get_value
@@ -162,13 +175,16 @@ def calibrate_observer(observer, params, progress=True, max_evaluations=None, wr
     hi = np.array([math.log(p.hi) if p.log else p.hi for p in params])
     y0 = np.array([math.log(p.start) if p.log else p.start for p in params])
     y0 = np.clip(y0, lo, hi)
+    # least_squares works on w, y = a + b w: y itself, or (with step_fraction) w in [1, 2] across the bounds, so
+    # that its relative finite-difference step is the same fraction of every parameter's range
+    a, b = (np.zeros_like(lo), np.ones_like(lo)) if step_fraction is None else (2.0 * lo - hi, hi - lo)
     recs = [{c.id: t.recording.data[c.id] for c in observer.channels} for t in observer.trials]
     norms = [{cid: max(np.linalg.norm(x), 1e-300) for cid, x in r.items()} for r in recs]
     t0 = time.perf_counter()
     history = []
 
-    def values(y):
-        return [math.exp(v) if p.log else float(v) for p, v in zip(params, y)]
+    def values(w):
+        return [math.exp(v) if p.log else float(v) for p, v in zip(params, a + b * np.asarray(w))]
 
     def overrides(y):
         return [(p.path, p.value_at(base_values[p.path], x)) for p, x in zip(params, values(y))]
@@ -186,15 +202,17 @@ def calibrate_observer(observer, params, progress=True, max_evaluations=None, wr
                   flush=True)
         return r
 
-    fit = least_squares(residual, y0, bounds=(lo, hi), x_scale="jac", method="trf",
-                        max_nfev=max_evaluations, diff_step=1e-4)
+    fit = least_squares(residual, (y0 - a) / b, bounds=((lo - a) / b, (hi - a) / b), x_scale="jac", method="trf",
+                        max_nfev=max_evaluations, diff_step=step_fraction or 1e-4, ftol=tolerance,
+                        xtol=min(tolerance, 1e-8), gtol=tolerance)
     sims0 = first[0]
     ne_before = {t.name: normalised_errors(s, r) for t, s, r in zip(observer.trials, sims0, recs)}
     if progress:
         print(file=sys.stderr)
     sims = observer.simulate(overrides(fit.x))
     ne_after = {t.name: normalised_errors(s, r) for t, s, r in zip(observer.trials, sims, recs)}
-    cov_y, n, n_eff = _covariance(fit, recs)
+    cov_w, n, n_eff = _covariance(fit, recs)
+    cov_y = cov_w * np.outer(b, b)
     xs = values(fit.x)
     sd_y = np.sqrt(np.clip(np.diag(cov_y), 0.0, None))
     with np.errstate(invalid="ignore", divide="ignore"):

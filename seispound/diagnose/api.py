@@ -92,13 +92,14 @@ def _base_specs(data) -> list:
 
 
 def diagnose(model, recordings=None, *, channels, trials=None, report=None, output=None, figure=None,
-             progress=True, hypotheses=None, max_evaluations=400) -> Diagnosis:
+             progress=True, hypotheses=None, max_evaluations=400, jobs=None) -> Diagnosis:
     """Locate where ``model`` and the recordings differ and name the physics the model left out.
 
     Parameters as :func:`seispound.calibrate.calibrate`; ``report``: REPORT.json path;
     ``output``: where the augmented model is written (default: MODEL_augmented.toml next to
     the report, or not written); ``figure``: a PNG of recorded, simulated and augmented
-    channels with the located mismatch marked; ``hypotheses``: names to try (default all).
+    channels with the located mismatch marked; ``hypotheses``: names to try (default all);
+    ``jobs``: hypotheses fitted at once in separate processes (default: the machine's CPUs).
     """
     import json
     import tomllib
@@ -108,6 +109,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     from ..calibrate.observe import Observer
 
     t0 = time.perf_counter()
+    jobs = (os.cpu_count() or 1) if jobs is None else int(jobs)
     model, chans, trial_list = load_inputs(model, recordings, channels, trials)
     chans = [c for c in chans if not (c.quantity == "acceleration" and c.floor == 0)]  # the input, not a response
     base_data = tomllib.loads(model.text)
@@ -145,7 +147,15 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     # 2. the base model recalibrated
     obs = Observer(data, base, chans, trial_list)
     base_params = parse_fit(_base_specs(data), data)
-    base_fit = calibrate_observer(obs, base_params, progress=False, max_evaluations=max_evaluations)
+    base_fit = calibrate_observer(obs, base_params, progress=False, max_evaluations=max_evaluations,
+                                  tolerance=TOLERANCE)
+    # then polished with the hypotheses' coarser finite-difference step (each step has its local minima)
+    from dataclasses import replace
+
+    restart = [replace(p, start=min(max(base_fit.parameters[p.path]["value"], p.lo), p.hi)) for p in base_params]
+    polished = calibrate_observer(obs, restart, progress=False, max_evaluations=SHORT, tolerance=TOLERANCE,
+                                  step_fraction=STEP)
+    base_fit = polished if polished.ne_mean_after < base_fit.ne_mean_after else base_fit
     recal = tomllib.loads(base_fit.model_text)
     n, n_eff = base_fit.n, base_fit.n_eff
     rss_base = _rss(base_fit)
@@ -156,24 +166,24 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     first = trial_list[0]
     mismatch = locate({c.id: sims_recal[0][c.id] - first.recording.data[c.id] for c in chans},
                       {c.id: first.recording.data[c.id] for c in chans}, first.recording.dt)
-    # 4. hypotheses: each added to the base model as given (its nominal parameters) and fitted alone,
-    # from the best of a few starts across its bounds (the misfit of a missing effect has local minima)
+    # 4. hypotheses: each added to the base model as given (its nominal parameters) and fitted alone, in
+    # parallel processes; each fit from its null point (the base model itself) and from starts across its bounds
     tried, accepted = {}, []
-    for name in (hypotheses or HYPOTHESES):
+    names = list(hypotheses or HYPOTHESES)
+    for name, outcome in _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs):
         hyp = HYPOTHESES[name]
-        aug, specs = hyp.augment(data)
-        try:
-            fit, params = _fit_hypothesis(aug, specs, base, chans, trial_list, max_evaluations)
-        except Exception as exc:  # an augmentation that cannot run is reported, not fatal
-            tried[name] = {"error": f"{type(exc).__name__}: {exc}"}
-            say(f"{name}: could not be fitted ({exc})")
+        if isinstance(outcome, str):  # an augmentation that cannot run is reported, not fatal
+            tried[name] = {"error": outcome}
+            say(f"{name}: could not be fitted ({outcome})")
             continue
+        fit, p = outcome
         rss = _rss(fit)
-        bic = n_eff * math.log(rss / n) + len(params) * math.log(n_eff)
+        bic = n_eff * math.log(rss / n) + p * math.log(n_eff)
         gain = 1.0 - fit.ne_mean_after / base_fit.ne_mean_after
         ok = (bic_base - bic) > BIC_MARGIN and gain >= NE_GAIN
         tried[name] = {"ne": fit.ne_mean_after, "delta_bic": bic - bic_base, "ne_gain": gain, "accepted": ok,
-                       "parameters": {p: v["value"] for p, v in fit.parameters.items()}}
+                       "evaluations": fit.evaluations,
+                       "parameters": {q: v["value"] for q, v in fit.parameters.items()}}
         say(f"{name}: NE {fit.ne_mean_after:.4f} ({gain:+.0%} against the recalibrated base), delta BIC "
             f"{bic - bic_base:+.1f}{' -> accepted' if ok else ''}")
         if ok:
@@ -207,36 +217,66 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     return result
 
 
-STARTS = (0.15, 0.5, 0.85)  # where in its (log-)range each effect parameter starts, for the best-of-three
+STARTS = (0.25, 0.75)  # besides the null point: where in its (log-)range each effect parameter starts
+SHORT, POLISH, TOLERANCE = 15, 60, 1e-4  # simulations per short fit and for the final one; least_squares' tolerance
+STEP = 1e-3  # finite-difference step, a fraction of each parameter's (log-)range (calibrate_observer)
 
 
-def _fit_hypothesis(aug, specs, base, chans, trial_list, max_evaluations):
-    """Fit an augmentation's own parameters, the base ones at their nominal values: the best of STARTS
-    (short fits), then a full fit from it.  Returns (fit, params)."""
+def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs):
+    """Yield (name, (fit, number of parameters) or an error string) as each hypothesis's fit ends."""
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    args = [(name, data, base, chans, trial_list, max_evaluations) for name in names]
+    if jobs <= 1 or len(names) <= 1:
+        for a in args:
+            yield a[0], _fit_one(*a)
+        return
+    with ProcessPoolExecutor(max_workers=min(jobs, len(names))) as pool:
+        futures = {pool.submit(_fit_one, *a): a[0] for a in args}
+        for fut in as_completed(futures):
+            yield futures[fut], fut.result()
+
+
+def _fit_one(name, data, base, chans, trial_list, max_evaluations):
+    """One hypothesis added to ``data`` and its own parameters fitted (``_fit_hypothesis``)."""
+    aug, specs, null = HYPOTHESES[name].augment(data)
+    try:
+        return _fit_hypothesis(aug, specs, null, base, chans, trial_list, max_evaluations)
+    except Exception as exc:  # noqa: BLE001 (reported, not fatal: the other hypotheses go on)
+        return f"{type(exc).__name__}: {exc}"
+
+
+def _fit_hypothesis(aug, specs, null, base, chans, trial_list, max_evaluations):
+    """Fit an augmentation's own parameters, the base ones at their nominal values.
+
+    Short fits (SHORT simulations) from the null point and from STARTS across the bounds (the
+    misfit of a missing effect has local minima: a yielding row fitted as elastic sits at damping
+    ratios near 0.3), then the best polished (POLISH).  Starting at the null point, least squares
+    (a descent method) cannot end worse than the base model.  Returns (fit, number of parameters).
+    """
+    import tomllib
+
     from ..calibrate.fit import calibrate_observer, parse_fit
     from ..calibrate.observe import Observer
     from ..study.paths import set_value
 
     best = None
-    for s in STARTS:
+    for s in (None,) + STARTS:
         trial_data = copy.deepcopy(aug)
         for spec in specs:
             path, _, bounds = spec.partition("=")
             lo, hi = (float(x) for x in bounds.split(":"))
-            value = lo * (hi / lo) ** s if lo > 0 else lo + s * (hi - lo)
+            value = null[path] if s is None else (lo * (hi / lo) ** s if lo > 0 else lo + s * (hi - lo))
             set_value(trial_data, path, value)
-        params = parse_fit(specs, trial_data)
-        fit = calibrate_observer(Observer(trial_data, base, chans, trial_list), params, progress=False,
-                                 max_evaluations=max(20, max_evaluations // 8))
-        if best is None or fit.ne_mean_after < best[0].ne_mean_after:
-            best = (fit, trial_data)
-    import tomllib
-
-    start = tomllib.loads(best[0].model_text)
+        fit = calibrate_observer(Observer(trial_data, base, chans, trial_list), parse_fit(specs, trial_data),
+                                 progress=False, max_evaluations=SHORT, tolerance=TOLERANCE, step_fraction=STEP)
+        if best is None or fit.ne_mean_after < best.ne_mean_after:
+            best = fit
+    start = tomllib.loads(best.model_text)
     params = parse_fit(specs, start)
     fit = calibrate_observer(Observer(start, base, chans, trial_list), params, progress=False,
-                             max_evaluations=max_evaluations)
-    return fit, params
+                             max_evaluations=min(POLISH, max_evaluations), tolerance=TOLERANCE, step_fraction=STEP)
+    return (fit if fit.ne_mean_after <= best.ne_mean_after else best), len(params)
 
 
 def _rss(fit) -> float:

@@ -1,10 +1,13 @@
 """The physics a model may have left out: each with the augmentation that adds it and the parameters it fits.
 
 An augmentation edits the model file's table (never the base model's own values) and
-names the dotted paths to fit with their bounds, in the calibration's ``PATH=lo:hi`` form.
-Where a physics needs a quantity the base model does not state (a floor's length along
-the line of impact, a footing's size), the augmentation assumes a stated default and fits
-the parameter that the data can see instead.
+names the dotted paths to fit with their bounds, in the calibration's ``PATH=lo:hi`` form
+(``building.*.KEY`` ties one value across the row), and its *null point*: the values at which
+the augmented model reduces to the base model (rigid floors, constant e, rigid soil, storeys
+that never yield, no delay).  Every hypothesis nests the base model, so a fit started at its
+null point can only improve on it.  Where a physics needs a quantity the base model does not
+state (a floor's length along the line of impact, a footing's size), the augmentation assumes
+a stated default and fits the parameter that the data can see instead.
 """
 
 from __future__ import annotations
@@ -21,10 +24,11 @@ class Hypothesis:
     what: str  # what was left out, in words
     signature: str  # what the residual should show
 
-    def augment(self, data: dict) -> tuple[dict, list]:
-        """(the augmented model table, the fit specs PATH=lo:hi)."""
+    def augment(self, data: dict) -> tuple[dict, list, dict]:
+        """(the augmented model table, the fit specs PATH=lo:hi, the null point {PATH: value})."""
         out = copy.deepcopy(data)
-        return out, _AUGMENT[self.name](out)
+        specs, null = _AUGMENT[self.name](out)
+        return out, specs, null
 
 
 def _names(data):
@@ -32,52 +36,62 @@ def _names(data):
 
 
 def _distributed_mass(d):
-    # every floor an axial rod, 20 m long in the line of impact (assumed), 4 segments; EA fitted
-    specs = []
+    # every floor an axial rod, 20 m long in the line of impact (assumed), 4 segments; EA fitted per building
+    # (the first axial frequency sees EA / L, so the assumed length costs nothing), the damping ratio of the
+    # first axial mode one value for the row
+    specs, null = ["building.*.floor_model.axial_damping=0.002:0.3"], {"building.*.floor_model.axial_damping": 0.02}
     for b in d["building"]:
         b["floor_model"] = {"kind": "rod", "segments": 4, "length": 20.0, "axial_stiffness": 1e10,
                             "axial_damping": 0.02}
-        specs.append(f"building.{b['name']}.floor_model.axial_stiffness=1e8:1e12")
-    return specs
+        specs.append(f"building.{b['name']}.floor_model.axial_stiffness=1e8:1e13")
+        null[f"building.{b['name']}.floor_model.axial_stiffness"] = 1e13
+    return specs, null
 
 
 def _velocity_restitution(d):
     e = d["contact"].get("restitution", 0.65)
-    e = e if isinstance(e, (int, float)) else 0.65
-    d["contact"]["restitution"] = {"form": "linear", "e0": float(min(e + 0.1, 0.98)), "slope": 0.5, "min": 0.05,
-                                   "max": 0.99}
-    return ["contact.restitution.e0=0.1:0.99", "contact.restitution.slope=0:20"]
+    e = float(e) if isinstance(e, (int, float)) else 0.65
+    d["contact"]["restitution"] = {"form": "linear", "e0": e, "slope": 0.0, "min": 0.05, "max": 0.99}
+    return (["contact.restitution.e0=0.1:0.99", "contact.restitution.slope=0:20"],
+            {"contact.restitution.e0": e, "contact.restitution.slope": 0.0})
 
 
 def _soil(d):
     # a rigid footing (plan 15 m x 15 m, assumed) on soil of fitted shear-wave velocity, density 1900 kg/m^3,
     # Poisson 0.3; foundation mass and rotary inertia from the building's floor masses
-    specs = []
+    specs, null = [], {}
     for b in d["building"]:
         m = b["floor_masses"]
         total = float(sum(m)) if isinstance(m, list) else float(m) * int(b.get("floors", 1))
         b["foundation"] = {"mass": 0.2 * total, "rotary_inertia": 0.2 * total * 15.0 ** 2 / 12.0,
                            "soil": {"shear_wave_velocity": 200.0, "density": 1900.0, "poisson": 0.3},
                            "footing": {"width": 15.0, "length": 15.0}}
-        specs.append(f"building.{b['name']}.foundation.soil.shear_wave_velocity=30:2000")
-    return specs
+        specs.append(f"building.{b['name']}.foundation.soil.shear_wave_velocity=30:3000")
+        null[f"building.{b['name']}.foundation.soil.shear_wave_velocity"] = 3000.0
+    return specs, null
 
 
 def _inelastic(d):
-    specs = []
+    # smooth hysteresis (Bouc-Wen; large exponents approach the bilinear law): a yield drift per building,
+    # the post-yield ratio and the exponent one value for the row
+    specs = ["building.*.storey_law.post_yield_ratio=0.005:0.5", "building.*.storey_law.n=1:20"]
+    null = {"building.*.storey_law.post_yield_ratio": 0.05, "building.*.storey_law.n": 2.0}
     for b in d["building"]:
-        b["storey_law"] = {"kind": "bilinear", "yield_drift": 0.02, "post_yield_ratio": 0.05}
-        specs.append(f"building.{b['name']}.storey_law.yield_drift=0.0005:0.1")
-    return specs
+        b["storey_law"] = {"kind": "bouc-wen", "yield_drift": 0.02, "post_yield_ratio": 0.05, "n": 2.0,
+                           "beta": 0.5, "gamma": 0.5}
+        specs.append(f"building.{b['name']}.storey_law.yield_drift=0.0005:5")
+        null[f"building.{b['name']}.storey_law.yield_drift"] = 5.0
+    return specs, null
 
 
 def _spatial(d):
     # the free field is recorded at the first building: the others' motion delayed (wave passage)
-    specs = []
+    specs, null = [], {}
     for b in d["building"][1:]:
-        b["ground_motion"] = {"delay": 0.01}
+        b["ground_motion"] = {"delay": 0.0}
         specs.append(f"building.{b['name']}.ground_motion.delay=0:0.3")
-    return specs
+        null[f"building.{b['name']}.ground_motion.delay"] = 0.0
+    return specs, null
 
 
 _AUGMENT = {"distributed-mass": _distributed_mass, "velocity-dependent-restitution": _velocity_restitution,

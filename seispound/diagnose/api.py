@@ -223,23 +223,39 @@ STEP = 1e-3  # finite-difference step, a fraction of each parameter's (log-)rang
 
 
 def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs):
-    """Yield (name, (fit, number of parameters) or an error string) as each hypothesis's fit ends."""
+    """Yield (name, (fit, number of parameters) or an error string) as each hypothesis's fits end; a
+    hypothesis with several forms (yielding: smooth or sharp) is fitted in each and keeps the best."""
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
-    args = [(name, data, base, chans, trial_list, max_evaluations) for name in names]
-    if jobs <= 1 or len(names) <= 1:
+    args = [(name, v, data, base, chans, trial_list, max_evaluations) for name in names
+            for v in range(HYPOTHESES[name].variants)]
+    left = {name: HYPOTHESES[name].variants for name in names}
+    best = {}
+
+    def done(name, outcome):
+        old = best.get(name)
+        if old is None or isinstance(old, str) or (not isinstance(outcome, str)
+                                                    and outcome[0].ne_mean_after < old[0].ne_mean_after):
+            best[name] = outcome
+        left[name] -= 1
+        return left[name] == 0
+
+    if jobs <= 1 or len(args) <= 1:
         for a in args:
-            yield a[0], _fit_one(*a)
+            if done(a[0], _fit_one(*a)):
+                yield a[0], best[a[0]]
         return
-    with ProcessPoolExecutor(max_workers=min(jobs, len(names))) as pool:
+    with ProcessPoolExecutor(max_workers=min(jobs, len(args))) as pool:
         futures = {pool.submit(_fit_one, *a): a[0] for a in args}
         for fut in as_completed(futures):
-            yield futures[fut], fut.result()
+            name = futures[fut]
+            if done(name, fut.result()):
+                yield name, best[name]
 
 
-def _fit_one(name, data, base, chans, trial_list, max_evaluations):
-    """One hypothesis added to ``data`` and its own parameters fitted (``_fit_hypothesis``)."""
-    aug, specs, null = HYPOTHESES[name].augment(data)
+def _fit_one(name, variant, data, base, chans, trial_list, max_evaluations):
+    """One form of a hypothesis added to ``data`` and its own parameters fitted (``_fit_hypothesis``)."""
+    aug, specs, null = HYPOTHESES[name].augment(data, variant)
     try:
         return _fit_hypothesis(aug, specs, null, base, chans, trial_list, max_evaluations)
     except Exception as exc:  # noqa: BLE001 (reported, not fatal: the other hypotheses go on)

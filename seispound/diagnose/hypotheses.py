@@ -24,10 +24,15 @@ class Hypothesis:
     what: str  # what was left out, in words
     signature: str  # what the residual should show
 
-    def augment(self, data: dict) -> tuple[dict, list, dict]:
+    @property
+    def variants(self) -> int:
+        """How many forms the augmentation takes (each fitted; the best is kept)."""
+        return len(_AUGMENT[self.name])
+
+    def augment(self, data: dict, variant: int = 0) -> tuple[dict, list, dict]:
         """(the augmented model table, the fit specs PATH=lo:hi, the null point {PATH: value})."""
         out = copy.deepcopy(data)
-        specs, null = _AUGMENT[self.name](out)
+        specs, null = _AUGMENT[self.name][variant](out)
         return out, specs, null
 
 
@@ -71,7 +76,18 @@ def _soil(d):
     return specs, null
 
 
-def _inelastic(d):
+def _bilinear(d):
+    # sharp yielding (bilinear, kinematic hardening): a yield drift per building, the post-yield ratio for the row
+    specs = ["building.*.storey_law.post_yield_ratio=0.005:0.5"]
+    null = {"building.*.storey_law.post_yield_ratio": 0.05}
+    for b in d["building"]:
+        b["storey_law"] = {"kind": "bilinear", "yield_drift": 0.02, "post_yield_ratio": 0.05}
+        specs.append(f"building.{b['name']}.storey_law.yield_drift=0.0005:5")
+        null[f"building.{b['name']}.storey_law.yield_drift"] = 5.0
+    return specs, null
+
+
+def _bouc_wen(d):
     # smooth hysteresis (Bouc-Wen; large exponents approach the bilinear law): a yield drift per building,
     # the post-yield ratio and the exponent one value for the row
     specs = ["building.*.storey_law.post_yield_ratio=0.005:0.5", "building.*.storey_law.n=1:20"]
@@ -94,9 +110,9 @@ def _spatial(d):
     return specs, null
 
 
-_AUGMENT = {"distributed-mass": _distributed_mass, "velocity-dependent-restitution": _velocity_restitution,
-            "soil-structure-interaction": _soil, "inelastic-storey": _inelastic,
-            "spatially-varying-input": _spatial}
+_AUGMENT = {"distributed-mass": [_distributed_mass], "velocity-dependent-restitution": [_velocity_restitution],
+            "soil-structure-interaction": [_soil], "inelastic-storey": [_bouc_wen, _bilinear],
+            "spatially-varying-input": [_spatial]}
 
 HYPOTHESES = {
     "distributed-mass": Hypothesis(

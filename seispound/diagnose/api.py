@@ -170,7 +170,8 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     # parallel processes; each fit from its null point (the base model itself) and from starts across its bounds
     tried, accepted = {}, []
     names = list(hypotheses or HYPOTHESES)
-    for name, outcome in _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs):
+    for name, outcome in _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs,
+                                  base_fit.ne_mean_after):
         hyp = HYPOTHESES[name]
         if isinstance(outcome, str):  # an augmentation that cannot run is reported, not fatal
             tried[name] = {"error": outcome}
@@ -222,77 +223,93 @@ SHORT, POLISH, TOLERANCE = 15, 60, 1e-4  # simulations per short fit and for the
 STEP = 1e-3  # finite-difference step, a fraction of each parameter's (log-)range (calibrate_observer)
 
 
-def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs):
-    """Yield (name, (fit, number of parameters) or an error string) as each hypothesis's fits end; a
-    hypothesis with several forms (yielding: smooth or sharp) is fitted in each and keeps the best."""
-    from concurrent.futures import ProcessPoolExecutor, as_completed
+def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_base):
+    """Yield (name, (fit, number of parameters) or an error string) per hypothesis, in parallel processes.
 
-    args = [(name, v, data, base, chans, trial_list, max_evaluations) for name in names
-            for v in range(HYPOTHESES[name].variants)]
-    left = {name: HYPOTHESES[name].variants for name in names}
-    best = {}
-
-    def done(name, outcome):
-        old = best.get(name)
-        if old is None or isinstance(old, str) or (not isinstance(outcome, str)
-                                                    and outcome[0].ne_mean_after < old[0].ne_mean_after):
-            best[name] = outcome
-        left[name] -= 1
-        return left[name] == 0
-
-    if jobs <= 1 or len(args) <= 1:
-        for a in args:
-            if done(a[0], _fit_one(*a)):
-                yield a[0], best[a[0]]
-        return
-    with ProcessPoolExecutor(max_workers=min(jobs, len(args))) as pool:
-        futures = {pool.submit(_fit_one, *a): a[0] for a in args}
-        for fut in as_completed(futures):
-            name = futures[fut]
-            if done(name, fut.result()):
-                yield name, best[name]
-
-
-def _fit_one(name, variant, data, base, chans, trial_list, max_evaluations):
-    """One form of a hypothesis added to ``data`` and its own parameters fitted (``_fit_hypothesis``)."""
-    aug, specs, null = HYPOTHESES[name].augment(data, variant)
-    try:
-        return _fit_hypothesis(aug, specs, null, base, chans, trial_list, max_evaluations)
-    except Exception as exc:  # noqa: BLE001 (reported, not fatal: the other hypotheses go on)
-        return f"{type(exc).__name__}: {exc}"
-
-
-def _fit_hypothesis(aug, specs, null, base, chans, trial_list, max_evaluations):
-    """Fit an augmentation's own parameters, the base ones at their nominal values.
-
-    Short fits (SHORT simulations) from the null point and from STARTS across the bounds (the
-    misfit of a missing effect has local minima: a yielding row fitted as elastic sits at damping
-    ratios near 0.3), then the best polished (POLISH).  Starting at the null point, least squares
-    (a descent method) cannot end worse than the base model.  Returns (fit, number of parameters).
+    Screening: every form of every hypothesis (yielding: smooth and sharp) gets short fits
+    (``_screen``); only the forms whose screened NE beats the recalibrated base's ``ne_base``
+    are polished (``_polish``), since an effect that cannot beat it is not accepted anyway.
+    A hypothesis keeps its best form.
     """
-    import tomllib
+    from concurrent.futures import ProcessPoolExecutor
 
+    forms = [(name, v) for name in names for v in range(HYPOTHESES[name].variants)]
+    common = (data, base, chans, trial_list)
+    pool = ProcessPoolExecutor(max_workers=min(jobs, len(forms))) if jobs > 1 and len(forms) > 1 else None
+    run = (lambda f, *a: pool.submit(f, *a)) if pool else (lambda f, *a: _Done(f(*a)))
+    try:
+        screened = {form: run(_screen, *form, *common) for form in forms}
+        polished = {}
+        for form, fut in screened.items():
+            out = fut.result()
+            if not isinstance(out, str) and out[0].ne_mean_after < ne_base:
+                polished[form] = run(_polish, out[0].model_text, out[1], base, chans, trial_list,
+                                     min(POLISH, max_evaluations))
+        for name in names:
+            best = None
+            for form in [f for f in forms if f[0] == name]:
+                out = screened[form].result()
+                if form in polished and not isinstance(out, str):
+                    fit = polished[form].result()
+                    out = (fit if fit.ne_mean_after <= out[0].ne_mean_after else out[0], out[1])
+                if best is None or isinstance(best, str) or (not isinstance(out, str)
+                                                             and out[0].ne_mean_after < best[0].ne_mean_after):
+                    best = out
+            yield name, (best if isinstance(best, str) else (best[0], len(best[1])))
+    finally:
+        if pool:
+            pool.shutdown()
+
+
+class _Done:
+    """A finished result in the shape of a Future (the serial path)."""
+
+    def __init__(self, value):
+        self.value = value
+
+    def result(self):
+        return self.value
+
+
+def _screen(name, variant, data, base, chans, trial_list):
+    """One form of a hypothesis added to ``data``; short fits of its own parameters (the base ones at their
+    nominal values) from its null point and from STARTS across the bounds (the misfit of a missing effect has
+    local minima: a yielding row fitted as elastic sits at damping ratios near 0.3).  Started at the null
+    point, least squares (a descent method) cannot end worse than the base model.  Returns (the best short
+    fit, its specs), or an error string (an augmentation that cannot run is reported, not fatal)."""
     from ..calibrate.fit import calibrate_observer, parse_fit
     from ..calibrate.observe import Observer
     from ..study.paths import set_value
 
-    best = None
-    for s in (None,) + STARTS:
-        trial_data = copy.deepcopy(aug)
-        for spec in specs:
-            path, _, bounds = spec.partition("=")
-            lo, hi = (float(x) for x in bounds.split(":"))
-            value = null[path] if s is None else (lo * (hi / lo) ** s if lo > 0 else lo + s * (hi - lo))
-            set_value(trial_data, path, value)
-        fit = calibrate_observer(Observer(trial_data, base, chans, trial_list), parse_fit(specs, trial_data),
-                                 progress=False, max_evaluations=SHORT, tolerance=TOLERANCE, step_fraction=STEP)
-        if best is None or fit.ne_mean_after < best.ne_mean_after:
-            best = fit
-    start = tomllib.loads(best.model_text)
-    params = parse_fit(specs, start)
-    fit = calibrate_observer(Observer(start, base, chans, trial_list), params, progress=False,
-                             max_evaluations=min(POLISH, max_evaluations), tolerance=TOLERANCE, step_fraction=STEP)
-    return (fit if fit.ne_mean_after <= best.ne_mean_after else best), len(params)
+    try:
+        aug, specs, null = HYPOTHESES[name].augment(data, variant)
+        best = None
+        for s in (None,) + STARTS:
+            trial_data = copy.deepcopy(aug)
+            for spec in specs:
+                path, _, bounds = spec.partition("=")
+                lo, hi = (float(x) for x in bounds.split(":"))
+                value = null[path] if s is None else (lo * (hi / lo) ** s if lo > 0 else lo + s * (hi - lo))
+                set_value(trial_data, path, value)
+            fit = calibrate_observer(Observer(trial_data, base, chans, trial_list), parse_fit(specs, trial_data),
+                                     progress=False, max_evaluations=SHORT, tolerance=TOLERANCE, step_fraction=STEP)
+            if best is None or fit.ne_mean_after < best.ne_mean_after:
+                best = fit
+        return best, specs
+    except Exception as exc:  # noqa: BLE001
+        return f"{type(exc).__name__}: {exc}"
+
+
+def _polish(text, specs, base, chans, trial_list, max_evaluations):
+    """The screened fit (model text) fitted on to convergence."""
+    import tomllib
+
+    from ..calibrate.fit import calibrate_observer, parse_fit
+    from ..calibrate.observe import Observer
+
+    start = tomllib.loads(text)
+    return calibrate_observer(Observer(start, base, chans, trial_list), parse_fit(specs, start), progress=False,
+                              max_evaluations=max_evaluations, tolerance=TOLERANCE, step_fraction=STEP)
 
 
 def _rss(fit) -> float:

@@ -49,6 +49,7 @@ class Observer:
         self.channels = channels
         self.trials = trials
         self.evaluations = 0
+        self.impact_times = []
 
     def data_for(self, trial, overrides) -> dict:
         """The model table of ``trial`` with ``overrides`` [(path, value)] applied, its duration the recording's."""
@@ -75,6 +76,7 @@ class Observer:
     def simulate(self, overrides) -> list[dict]:
         """Per trial: {trace id: simulated samples on the recording's grid}."""
         self.evaluations += 1
+        self.impact_times = []  # per trial, the onset times [s] of the last simulation's impacts
         return [self._one(t, self.model_for(t, overrides)) for t in self.trials]
 
     def _one(self, trial, model) -> dict:
@@ -85,6 +87,7 @@ class Observer:
         system, motions = run_inputs(model)
         an = model.analysis
         raw = integrate(system, motions.rows, an.dt, an.nsteps, an.newmark, scheme=an.scheme)
+        self.impact_times.append(np.sort(raw.impacts.get("t0", np.zeros(0))))
         view, floors = floor_view(raw, system)
         t_rec = trial.recording.time
         out = {}

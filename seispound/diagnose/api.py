@@ -73,8 +73,9 @@ class Diagnosis:
             lines.append(f"  recalibrated {path} = {v:.6g}")
         for m in self.mismatch[:3]:
             lines.append(f"  mismatch: {m['channel']} holds {m['residual_share']:.0%} of the residual, most in "
-                         f"{m['t_start']:.1f}-{m['t_end']:.1f} s, above the noise in {m['band_hz'][0]:.1f}-"
-                         f"{m['band_hz'][1]:.1f} Hz")
+                         f"{m['t_start']:.1f}-{m['t_end']:.1f} s ({m['impacts_in_window']} impacts in it; "
+                         f"{m['share_after_impacts']:.0%} of the channel's residual within 0.1 s after an impact), "
+                         f"above the noise in {m['band_hz'][0]:.1f}-{m['band_hz'][1]:.1f} Hz")
         return "\n".join(lines)
 
 
@@ -162,10 +163,12 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     bic_base = n_eff * math.log(rss_base / n) + len(base_params) * math.log(n_eff)
     say(f"base parameters recalibrated: NE {base_fit.ne_mean_after:.4f}")
     # 3. locate the recalibrated residual
-    sims_recal = Observer(recal, base, chans, trial_list).simulate([])
+    recal_obs = Observer(recal, base, chans, trial_list)
+    sims_recal = recal_obs.simulate([])
     first = trial_list[0]
     mismatch = locate({c.id: sims_recal[0][c.id] - first.recording.data[c.id] for c in chans},
-                      {c.id: first.recording.data[c.id] for c in chans}, first.recording.dt)
+                      {c.id: first.recording.data[c.id] for c in chans}, first.recording.dt,
+                      impact_times=recal_obs.impact_times[0])
     # 4. hypotheses: each added to the base model as given (its nominal parameters) and fitted alone, in
     # parallel processes; each fit from its null point (the base model itself) and from starts across its bounds
     tried, accepted = {}, []

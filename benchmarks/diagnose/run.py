@@ -25,14 +25,16 @@ EFFECTS = ("distributed-mass", "velocity-dependent-restitution", "soil-structure
            "spatially-varying-input")
 
 
-def run_case(folder: str) -> dict:
-    """Diagnose one case folder as a user would; the report goes to ``folder/report.json``."""
+def run_case(folder: str, jobs: int | None = None) -> dict:
+    """Diagnose one case folder as a user would; the report goes to ``folder/report.json``.
+
+    ``jobs``: diagnose's own processes (default: the machine's CPUs; 1 when cases run side by side)."""
     from seispound.diagnose import diagnose
 
     f = Path(folder)
     t0 = time.perf_counter()
     d = diagnose(f / "model.toml", [f / "recording.mseed"], channels=f / "channels.toml", report=f / "report.json",
-                 output=f / "diagnosed.toml", progress=False)
+                 output=f / "diagnosed.toml", progress=False, jobs=jobs)
     return {"named": [x["physics"] for x in d.left_out], "ne_before": d.ne_before, "ne_after": d.ne_after,
             "seconds": time.perf_counter() - t0,
             "hypotheses": {k: v.get("ne") for k, v in d.hypotheses.items()},
@@ -94,7 +96,7 @@ def main(argv=None) -> int:
     todo = [c for c in names if c not in results]
     t0 = time.perf_counter()
     with ProcessPoolExecutor(max_workers=args.jobs) as pool:
-        futures = {pool.submit(run_case, str(root / c)): c for c in todo}
+        futures = {pool.submit(run_case, str(root / c), 1 if args.jobs > 1 else None): c for c in todo}
         for i, fut in enumerate(as_completed(futures), 1):
             c = futures[fut]
             results[c] = fut.result()

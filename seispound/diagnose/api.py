@@ -221,7 +221,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     return result
 
 
-STARTS = (0.25, 0.75)  # besides the null point: where in its (log-)range each effect parameter starts
+CANDIDATES, STARTS = 8, 2  # points of a Sobol sequence across the bounds, and how many of the best start fits
 SHORT, POLISH, TOLERANCE = 15, 60, 1e-4  # simulations per short fit and for the final one; least_squares' tolerance
 STEP = 1e-3  # finite-difference step, a fraction of each parameter's (log-)range (calibrate_observer)
 
@@ -276,10 +276,10 @@ class _Done:
 
 def _screen(name, variant, data, base, chans, trial_list):
     """One form of a hypothesis added to ``data``; short fits of its own parameters (the base ones at their
-    nominal values) from its null point and from STARTS across the bounds (the misfit of a missing effect has
-    local minima: a yielding row fitted as elastic sits at damping ratios near 0.3).  Started at the null
-    point, least squares (a descent method) cannot end worse than the base model.  Returns (the best short
-    fit, its specs), or an error string (an augmentation that cannot run is reported, not fatal)."""
+    nominal values) from its null point and from the best points across its bounds (``_best_candidates``).
+    Started at the null point, least squares (a descent method) cannot end worse than the base model.
+    Returns (the best short fit, its specs), or an error string (an augmentation that cannot run is
+    reported, not fatal)."""
     from ..calibrate.fit import calibrate_observer, parse_fit
     from ..calibrate.observe import Observer
     from ..study.paths import set_value
@@ -287,12 +287,9 @@ def _screen(name, variant, data, base, chans, trial_list):
     try:
         aug, specs, null = HYPOTHESES[name].augment(data, variant)
         best = None
-        for s in (None,) + STARTS:
+        for start in [null] + _best_candidates(aug, specs, base, chans, trial_list):
             trial_data = copy.deepcopy(aug)
-            for spec in specs:
-                path, _, bounds = spec.partition("=")
-                lo, hi = (float(x) for x in bounds.split(":"))
-                value = null[path] if s is None else (lo * (hi / lo) ** s if lo > 0 else lo + s * (hi - lo))
+            for path, value in start.items():
                 set_value(trial_data, path, value)
             fit = calibrate_observer(Observer(trial_data, base, chans, trial_list), parse_fit(specs, trial_data),
                                      progress=False, max_evaluations=SHORT, tolerance=TOLERANCE, step_fraction=STEP)
@@ -301,6 +298,34 @@ def _screen(name, variant, data, base, chans, trial_list):
         return best, specs
     except Exception as exc:  # noqa: BLE001
         return f"{type(exc).__name__}: {exc}"
+
+
+def _best_candidates(aug, specs, base, chans, trial_list) -> list[dict]:
+    """The STARTS best of CANDIDATES points of a scrambled Sobol sequence (fixed seed) across the (log-)bounds,
+    each judged by one simulation: the misfit of a missing effect has local minima, and a start in the wrong
+    basin ends there (a yielding row fitted as elastic sits at damping ratios near 0.3)."""
+    from scipy.stats import qmc
+
+    from ..calibrate.observe import Observer
+
+    bounds = []
+    for spec in specs:
+        path, _, b = spec.partition("=")
+        lo, hi = (float(x) for x in b.split(":"))
+        bounds.append((path, lo, hi))
+    pts = qmc.Sobol(len(bounds), scramble=True, seed=2026).random(CANDIDATES)
+    obs = Observer(aug, base, chans, trial_list)
+    recs = [{c.id: t.recording.data[c.id] for c in chans} for t in trial_list]
+    scored = []
+    for u in pts:
+        start = {p: (lo * (hi / lo) ** x if lo > 0 else lo + x * (hi - lo)) for (p, lo, hi), x in zip(bounds, u)}
+        try:
+            sims = obs.simulate(list(start.items()))
+        except Exception:  # noqa: BLE001 (a point where the model cannot run is no start)
+            continue
+        rss = sum(float(np.sum((s[k] - r[k]) ** 2) / np.sum(r[k] ** 2)) for s, r in zip(sims, recs) for k in r)
+        scored.append((rss, len(scored), start))
+    return [s for _, _, s in sorted(scored)[:STARTS]]
 
 
 def _polish(text, specs, base, chans, trial_list, max_evaluations):

@@ -57,19 +57,23 @@ def _velocity_restitution(d):
     e = d["contact"].get("restitution", 0.65)
     e = float(e) if isinstance(e, (int, float)) else 0.65
     d["contact"]["restitution"] = {"form": "linear", "e0": e, "slope": 0.0, "min": 0.05, "max": 0.99}
-    return (["contact.restitution.e0=0.1:0.99", "contact.restitution.slope=0:20"],
+    # impacts between storeys close at 0.05-1 m/s: a slope above 5 s/m would span e's whole range within 0.2 m/s
+    return (["contact.restitution.e0=0.1:0.99", "contact.restitution.slope=0:5"],
             {"contact.restitution.e0": e, "contact.restitution.slope": 0.0})
 
 
 def _soil(d):
     # a rigid footing (plan 15 m x 15 m, assumed) on soil of fitted shear-wave velocity, density 1900 kg/m^3,
-    # Poisson 0.3; foundation mass and rotary inertia from the building's floor masses
-    specs, null = [], {}
+    # Poisson 0.3; foundation mass and rotary inertia from the building's floor masses; the share of the
+    # half-space's radiation damping one value for the row (a stratum on rock radiates little: Soil.radiation)
+    specs = ["building.*.foundation.soil.radiation=0.01:1"]
+    null = {"building.*.foundation.soil.radiation": 1.0}
     for b in d["building"]:
         m = b["floor_masses"]
         total = float(sum(m)) if isinstance(m, list) else float(m) * int(b.get("floors", 1))
         b["foundation"] = {"mass": 0.2 * total, "rotary_inertia": 0.2 * total * 15.0 ** 2 / 12.0,
-                           "soil": {"shear_wave_velocity": 200.0, "density": 1900.0, "poisson": 0.3},
+                           "soil": {"shear_wave_velocity": 200.0, "density": 1900.0, "poisson": 0.3,
+                                    "radiation": 1.0},
                            "footing": {"width": 15.0, "length": 15.0}}
         specs.append(f"building.{b['name']}.foundation.soil.shear_wave_velocity=30:3000")
         null[f"building.{b['name']}.foundation.soil.shear_wave_velocity"] = 3000.0

@@ -22,11 +22,19 @@ __all__ = ["Foundation", "Soil", "Footing", "cone_impedances"]
 
 @dataclass
 class Soil:
-    """A homogeneous elastic half-space: shear-wave velocity [m/s], density [kg/m^3], Poisson's ratio [-]."""
+    """An elastic half-space: shear-wave velocity [m/s], density [kg/m^3], Poisson's ratio [-].
+
+    ``radiation`` [-], in [0, 1]: the share of the half-space's radiation damping that the
+    site radiates (default 1).  A soil layer on much stiffer rock radiates almost nothing
+    below its fundamental frequency Vs / 4H (Gazetas 1991, Sec. 15.5, "Foundations on a
+    soil stratum"; Wolf 1994, Sec. 5.2), so its foundation dashpots are a fraction of the
+    cone's while the springs stay close to the half-space's.
+    """
 
     shear_wave_velocity: float
     density: float
     poisson: float
+    radiation: float = 1.0
 
     def validate(self, key="soil"):
         finite_number(self.shear_wave_velocity, f"{key}.shear_wave_velocity", positive=True)
@@ -34,6 +42,10 @@ class Soil:
         nu = finite_number(self.poisson, f"{key}.poisson")
         if not 0.0 <= nu < 0.5:
             raise InputError(f"must lie in [0, 0.5), got {nu:g}", key=f"{key}.poisson")
+        r = finite_number(self.radiation, f"{key}.radiation")
+        if not 0.0 <= r <= 1.0:
+            raise InputError(f"must lie in [0, 1] (a share of the half-space's radiation damping), got {r:g}",
+                             key=f"{key}.radiation")
 
 
 @dataclass
@@ -83,6 +95,7 @@ def cone_impedances(soil: Soil, footing: Footing) -> dict:
     The static springs are the exact half-space values (Gazetas 1991, Table 1, circular
     footing); the dashpots are the cones' frequency-independent ones.  A rectangular footing
     uses the equivalent radii of :meth:`Footing.equivalent_radii` (sway and rocking apart).
+    Both dashpots are scaled by ``soil.radiation`` (a stratum on rock, :class:`Soil`).
     Returns sway_stiffness [N/m], sway_damping [N s/m], rocking_stiffness [N m/rad],
     rocking_damping [N m s/rad], trapped_rotary_inertia [kg m^2].
     """
@@ -94,9 +107,10 @@ def cone_impedances(soil: Soil, footing: Footing) -> dict:
         c, trapped = cs * math.sqrt(2.0 * (1.0 - nu) / (1.0 - 2.0 * nu)), 0.0
     else:
         c, trapped = 2.0 * cs, 1.2 * (nu - 1.0 / 3.0) * rho * i0 * rt
-    return dict(sway_stiffness=8.0 * G * rx / (2.0 - nu), sway_damping=rho * cs * math.pi * rx * rx,
-                rocking_stiffness=8.0 * G * rt ** 3 / (3.0 * (1.0 - nu)), rocking_damping=rho * c * i0,
-                trapped_rotary_inertia=trapped)
+    r = soil.radiation
+    return {"sway_stiffness": 8.0 * G * rx / (2.0 - nu), "sway_damping": r * rho * cs * math.pi * rx * rx,
+            "rocking_stiffness": 8.0 * G * rt ** 3 / (3.0 * (1.0 - nu)), "rocking_damping": r * rho * c * i0,
+            "trapped_rotary_inertia": trapped}
 
 
 @dataclass

@@ -32,7 +32,8 @@ _FLOOR_MODEL = {"kind", "segments", "length", "axial_stiffness", "youngs_modulus
 _ATTACHMENT = {"mass", "joint_stiffness", "joint_damping"}
 _FOUNDATION = {"mass", "rotary_inertia", "floor_rotary_inertia", "sway_stiffness", "sway_damping",
                "rocking_stiffness", "rocking_damping", "soil", "footing"}
-_SOIL = {"shear_wave_velocity", "density", "poisson"}
+_SOIL = {"shear_wave_velocity", "density", "poisson", "radiation"}
+_SOIL_REQUIRED = {"shear_wave_velocity", "density", "poisson"}
 _FOOTING = {"width", "length", "radius"}
 _STOREY_LAW = {"kind", "yield_drift", "yield_force", "post_yield_ratio", "n", "beta", "gamma"}
 _VARIANT = {"delay", "lowpass", "lowpass_order"}
@@ -334,7 +335,7 @@ def _foundation(d, key):
                 raise InputError("must be a table", key=f"{key}.{name}")
             _check_keys(t, allowed, f"{key}.{name}")
             if name == "soil":
-                for k in sorted(_SOIL - set(t)):
+                for k in sorted(_SOIL_REQUIRED - set(t)):
                     raise InputError("is required", key=f"{key}.soil.{k}")
             parts[name] = cls(**t)
     return Foundation(**{k: v for k, v in d.items() if k not in parts}, **parts)

@@ -35,6 +35,15 @@ def test_soil_and_footing_give_the_cone_impedances(tmp_path):
     np.testing.assert_array_equal(system.outputs.foundation, [[0, 1], [-1, -1]])
 
 
+def test_radiation_scales_the_cone_dashpots_only():
+    full = cone_impedances(Soil(150.0, 1800.0, 0.3), Footing(width=12.0, length=15.0))
+    layer = cone_impedances(Soil(150.0, 1800.0, 0.3, radiation=0.25), Footing(width=12.0, length=15.0))
+    for k in ("sway_damping", "rocking_damping"):
+        assert layer[k] == pytest.approx(0.25 * full[k], rel=1e-15)
+    for k in ("sway_stiffness", "rocking_stiffness", "trapped_rotary_inertia"):
+        assert layer[k] == full[k]
+
+
 def test_a_run_stores_foundation_motion_and_drift_as_storey_deformation(tmp_path):
     model = _model(tmp_path)
     ds = simulate(model)
@@ -83,6 +92,8 @@ def test_a_stiff_foundation_approaches_the_fixed_base(tmp_path):
     ("{ mass = 1.0e5, rotary_inertia = 1.0e6, footing = { radius = 5.0, width = 3.0 }, soil = { "
      "shear_wave_velocity = 150.0, density = 1800.0, poisson = 0.3 } }", "building.A.foundation.footing.radius"),
     ("{ mass = 1.0e5, rotary_inertia = 1.0e6, sway_stiffnes = 1.0e9 }", "building.A.foundation.sway_stiffnes"),
+    ("{ mass = 1.0e5, rotary_inertia = 1.0e6, soil = { shear_wave_velocity = 150.0, density = 1800.0, "
+     "poisson = 0.3, radiation = 1.5 }, footing = { radius = 5.0 } }", "building.A.foundation.soil.radiation"),
 ])
 def test_bad_foundations_name_their_key(tmp_path, table, key):
     from seispound.errors import InputError

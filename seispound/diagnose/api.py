@@ -303,22 +303,26 @@ def _screen(name, variant, data, base, chans, trial_list):
 def _best_candidates(aug, specs, base, chans, trial_list) -> list[dict]:
     """The STARTS best of CANDIDATES points of a scrambled Sobol sequence (fixed seed) across the (log-)bounds,
     each judged by one simulation: the misfit of a missing effect has local minima, and a start in the wrong
-    basin ends there (a yielding row fitted as elastic sits at damping ratios near 0.3)."""
+    basin ends there (a yielding row fitted as elastic sits at damping ratios near 0.3).  The scan ties a
+    key across the buildings (one yield drift for the row), so that eight points cover its few dimensions."""
     from scipy.stats import qmc
 
     from ..calibrate.observe import Observer
 
-    bounds = []
+    groups = {}  # a key of every building scanned as one value (the row alike): its dimension is the key's
     for spec in specs:
         path, _, b = spec.partition("=")
         lo, hi = (float(x) for x in b.split(":"))
-        bounds.append((path, lo, hi))
-    pts = qmc.Sobol(len(bounds), scramble=True, seed=2026).random(CANDIDATES)
+        parts = path.split(".")
+        tied = ".".join(["building", "*"] + parts[2:]) if parts[0] == "building" else path
+        groups.setdefault(tied, (lo, hi, []))[2].append(path)
+    pts = qmc.Sobol(len(groups), scramble=True, seed=2026).random(CANDIDATES)
     obs = Observer(aug, base, chans, trial_list)
     recs = [{c.id: t.recording.data[c.id] for c in chans} for t in trial_list]
     scored = []
     for u in pts:
-        start = {p: (lo * (hi / lo) ** x if lo > 0 else lo + x * (hi - lo)) for (p, lo, hi), x in zip(bounds, u)}
+        start = {p: (lo * (hi / lo) ** x if lo > 0 else lo + x * (hi - lo))
+                 for (lo, hi, paths), x in zip(groups.values(), u) for p in paths}
         try:
             sims = obs.simulate(list(start.items()))
         except Exception:  # noqa: BLE001 (a point where the model cannot run is no start)

@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from .hypotheses import HYPOTHESES
-from .locate import locate
+from .locate import locate, noise_sigma
 
 __all__ = ["diagnose", "Diagnosis", "BIC_MARGIN", "NE_GAIN"]
 
@@ -79,6 +79,45 @@ class Diagnosis:
         return "\n".join(lines)
 
 
+def _recalibrate(data, params, base, chans, trial_list, max_evaluations, noise_ne):
+    """The base model's own parameters fitted from the nominal values (calibrate's step), then polished with the
+    hypotheses' step; if that leaves the misfit above 1.5 times the noise's NE, fitted again from the best of
+    CANDIDATES Sobol points (one stiffness factor, damping ratio and gap-size factor for the row, each over
+    a factor of 2 either way) and the better kept: wrong parameters also have local minima."""
+    from dataclasses import replace
+
+    from ..calibrate.fit import calibrate_observer
+    from ..calibrate.observe import Observer
+    from ..study.paths import get_value
+    from scipy.stats import qmc
+
+    obs = Observer(data, base, chans, trial_list)
+
+    def fit_from(starts):
+        ps = [replace(p, start=min(max(starts.get(p.path, p.start), p.lo), p.hi)) for p in params]
+        fit = calibrate_observer(obs, ps, progress=False, max_evaluations=max_evaluations, tolerance=TOLERANCE)
+        again = [replace(p, start=min(max(fit.parameters[p.path]["value"], p.lo), p.hi)) for p in params]
+        polished = calibrate_observer(obs, again, progress=False, max_evaluations=SHORT, tolerance=TOLERANCE,
+                                      step_fraction=STEP)
+        return polished if polished.ne_mean_after < fit.ne_mean_after else fit
+
+    best = fit_from({})
+    if best.ne_mean_after <= 1.5 * noise_ne:
+        return best
+    recs = [{c.id: t.recording.data[c.id] for c in chans} for t in trial_list]
+    scored = []
+    for u in qmc.Sobol(3, scramble=True, seed=2026).random(CANDIDATES):
+        k, ratio, g = 2.0 ** (2 * u[0] - 1), 0.01 * 20.0 ** u[1], 2.0 ** (2 * u[2] - 1)
+        starts = {p.path: (k if p.path.endswith("storey_stiffness") else ratio if p.path.endswith("ratio")
+                           else g * float(get_value(data, p.path))) for p in params}
+        over = [(p.path, p.value_at(get_value(data, p.path), starts[p.path])) for p in params]
+        sims = obs.simulate(over)
+        rss = sum(float(np.sum((s[q] - r[q]) ** 2) / np.sum(r[q] ** 2)) for s, r in zip(sims, recs) for q in r)
+        scored.append((rss, len(scored), starts))
+    other = fit_from(min(scored)[2])
+    return other if other.ne_mean_after < best.ne_mean_after else best
+
+
 def _base_specs(data) -> list:
     specs = []
     for b in data.get("building", []):
@@ -106,7 +145,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     import tomllib
 
     from ..calibrate.api import load_inputs
-    from ..calibrate.fit import calibrate_observer, normalised_errors, parse_fit
+    from ..calibrate.fit import normalised_errors, parse_fit
     from ..calibrate.observe import Observer
 
     t0 = time.perf_counter()
@@ -146,17 +185,10 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
                 "contact_substeps": int(data["analysis"]["contact_substeps"])}
     say(f"numerics: NE against half the step {ne_num:.2g} ({'sufficient' if sufficient else 'refined'})")
     # 2. the base model recalibrated
-    obs = Observer(data, base, chans, trial_list)
     base_params = parse_fit(_base_specs(data), data)
-    base_fit = calibrate_observer(obs, base_params, progress=False, max_evaluations=max_evaluations,
-                                  tolerance=TOLERANCE)
-    # then polished with the hypotheses' coarser finite-difference step (each step has its local minima)
-    from dataclasses import replace
-
-    restart = [replace(p, start=min(max(base_fit.parameters[p.path]["value"], p.lo), p.hi)) for p in base_params]
-    polished = calibrate_observer(obs, restart, progress=False, max_evaluations=SHORT, tolerance=TOLERANCE,
-                                  step_fraction=STEP)
-    base_fit = polished if polished.ne_mean_after < base_fit.ne_mean_after else base_fit
+    noise_ne = float(np.mean([noise_sigma(t.recording.data[c.id]) * math.sqrt(t.recording.npts)
+                              / max(np.linalg.norm(t.recording.data[c.id]), 1e-300) for t in trial_list for c in chans]))
+    base_fit = _recalibrate(data, base_params, base, chans, trial_list, max_evaluations, noise_ne)
     recal = tomllib.loads(base_fit.model_text)
     n, n_eff = base_fit.n, base_fit.n_eff
     rss_base = _rss(base_fit)

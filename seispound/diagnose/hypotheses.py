@@ -57,9 +57,10 @@ def _velocity_restitution(d):
     e = d["contact"].get("restitution", 0.65)
     e = float(e) if isinstance(e, (int, float)) else 0.65
     d["contact"]["restitution"] = {"form": "linear", "e0": e, "slope": 0.0, "min": 0.05, "max": 0.99}
-    # impacts between storeys close at 0.05-1 m/s: a slope above 5 s/m would span e's whole range within 0.2 m/s
-    return (["contact.restitution.e0=0.1:0.99", "contact.restitution.slope=0:5"],
-            {"contact.restitution.e0": e, "contact.restitution.slope": 0.0})
+    # impacts between storeys close at 0.05-1 m/s: a slope above 5 s/m would span e's whole range within 0.2 m/s;
+    # e levels off at a floor (min) for the fastest impacts
+    return (["contact.restitution.e0=0.1:0.99", "contact.restitution.slope=0:5", "contact.restitution.min=0.05:0.9"],
+            {"contact.restitution.e0": e, "contact.restitution.slope": 0.0, "contact.restitution.min": 0.05})
 
 
 def _soil(d):

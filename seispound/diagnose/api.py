@@ -4,7 +4,8 @@
    substeps; if the difference is not small against the misfit, the finer settings are used
    for everything after (a residual that shrinks with the step is numerics, not physics).
 2. The base model's own parameters recalibrated (storey stiffness factor and damping ratio
-   per building, gap sizes): if that explains the data, no physics is missing.
+   per building, gap sizes): if that explains the data to within EXPLAINED times the NE the
+   sensor noise leaves, no physics is missing and no hypothesis is tried.
 3. The recalibrated residual located (``locate.py``): channels, windows, bands.
 4. Each hypothesis (``hypotheses.py``) added to the base model as given and its own parameters
    fitted (the base ones stay nominal: a missing effect is told from wrong parameters by which
@@ -35,6 +36,7 @@ __all__ = ["diagnose", "Diagnosis", "BIC_MARGIN", "NE_GAIN"]
 
 BIC_MARGIN = 10.0  # "very strong" evidence on Kass & Raftery's (1995) scale
 NE_GAIN = 0.1  # the mean NE must fall by at least a tenth
+EXPLAINED = 1.5  # a recalibrated misfit within this factor of the noise's NE leaves no physics to find
 
 
 @dataclass
@@ -51,9 +53,11 @@ class Diagnosis:
     numerics: dict
     hypotheses: dict = field(default_factory=dict)
     seconds: float = 0.0
+    noise_ne: float = 0.0  # the NE the sensor noise alone leaves (mean over channels, estimated from the data)
 
     def report(self) -> dict:
         return {"mismatch": self.mismatch, "left_out": self.left_out, "recalibrated": self.recalibrated,
+                "noise_ne": self.noise_ne,
                 "fit": {"metric": "NE", "before": self.ne_before, "after": self.ne_after},
                 "augmented_model": self.augmented_model, "numerics": self.numerics,
                 "hypotheses": self.hypotheses, "seconds": self.seconds}
@@ -68,7 +72,8 @@ class Diagnosis:
             for item in self.left_out:
                 lines.append(f"  left out: {item['physics']} (confidence {item['confidence']:.2f}): {item['evidence']}")
         else:
-            lines.append("  no physics is missing: recalibrating the base model's parameters explains the data")
+            lines.append("  no physics is missing: recalibrating the base model's parameters explains the data "
+                         f"(noise alone leaves NE {self.noise_ne:.4f})")
         for path, v in self.recalibrated.items():
             lines.append(f"  recalibrated {path} = {v:.6g}")
         for m in self.mismatch[:3]:
@@ -205,6 +210,12 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     # parallel processes; each fit from its null point (the base model itself) and from starts across its bounds
     tried, accepted = {}, []
     names = list(hypotheses or HYPOTHESES)
+    if base_fit.ne_mean_after <= EXPLAINED * noise_ne:
+        # what is left is at most sqrt(1.5^2 - 1) = 1.1 times the noise: below what the noise and the difference
+        # between two correct solvers (Newmark substeps against located events) let one tell apart
+        say(f"the recalibrated model fits to {base_fit.ne_mean_after / noise_ne:.2f} times the noise's NE "
+            f"({noise_ne:.4f}): no physics left to find")
+        names = []
     for name, outcome in _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs,
                                   base_fit.ne_mean_after):
         hyp = HYPOTHESES[name]
@@ -242,7 +253,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     result = Diagnosis(mismatch=mismatch, left_out=left_out,
                        recalibrated={p: v["value"] for p, v in base_fit.parameters.items()},
                        ne_before=ne_before, ne_after=final.ne_mean_after, augmented_model=written, model_text=text,
-                       numerics=numerics, hypotheses=tried, seconds=time.perf_counter() - t0)
+                       numerics=numerics, hypotheses=tried, seconds=time.perf_counter() - t0, noise_ne=noise_ne)
     if written is not None:
         Path(written).write_text(text, encoding="utf-8")
     if figure is not None:

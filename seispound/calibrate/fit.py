@@ -202,8 +202,10 @@ def calibrate_observer(observer, params, progress=True, max_evaluations=None, wr
                   flush=True)
         return r
 
+    # max_evaluations caps simulations: least_squares' max_nfev leaves out the p more of each finite-difference Jacobian
+    nfev = None if max_evaluations is None else max(1, int(max_evaluations) // (len(params) + 1))
     fit = least_squares(residual, (y0 - a) / b, bounds=((lo - a) / b, (hi - a) / b), x_scale="jac", method="trf",
-                        max_nfev=max_evaluations, diff_step=step_fraction or 1e-4, ftol=tolerance,
+                        max_nfev=nfev, diff_step=step_fraction or 1e-4, ftol=tolerance,
                         xtol=min(tolerance, 1e-8), gtol=tolerance)
     sims0 = first[0]
     ne_before = {t.name: normalised_errors(s, r) for t, s, r in zip(observer.trials, sims0, recs)}

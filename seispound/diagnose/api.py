@@ -102,7 +102,8 @@ def _recalibrate(data, params, base, chans, trial_list, max_evaluations, noise_n
         ps = [replace(p, start=min(max(starts.get(p.path, p.start), p.lo), p.hi)) for p in params]
         fit = calibrate_observer(obs, ps, progress=False, max_evaluations=max_evaluations, tolerance=TOLERANCE)
         again = [replace(p, start=min(max(fit.parameters[p.path]["value"], p.lo), p.hi)) for p in params]
-        polished = calibrate_observer(obs, again, progress=False, max_evaluations=SHORT, tolerance=TOLERANCE,
+        polished = calibrate_observer(obs, again, progress=False, max_evaluations=SHORT * (len(params) + 1),
+                                      tolerance=TOLERANCE,
                                       step_fraction=STEP)
         return polished if polished.ne_mean_after < fit.ne_mean_after else fit
 
@@ -265,46 +266,80 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
 
 
 CANDIDATES, STARTS = 8, 2  # points of a Sobol sequence across the bounds, and how many of the best start fits
-SHORT, POLISH, TOLERANCE = 15, 60, 1e-4  # simulations per short fit and for the final one; least_squares' tolerance
+SHORT, POLISH = 10, 60  # Gauss-Newton iterations per short fit and for the final one: (p + 1) simulations each
+TOLERANCE = 1e-4  # least_squares' ftol and gtol
+COST_ORDER = ("inelastic-storey", "distributed-mass", "soil-structure-interaction", "spatially-varying-input",
+              "velocity-dependent-restitution")  # the slowest simulations first: they set the parallel phase's length
 STEP = 1e-3  # finite-difference step, a fraction of each parameter's (log-)range (calibrate_observer)
 
 
 def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_base):
-    """Yield (name, (fit, number of parameters) or an error string) per hypothesis, in parallel processes.
+    """Yield (name, (fit, number of parameters) or an error string) per hypothesis, fitted in parallel processes.
 
-    Screening: every form of every hypothesis (yielding: smooth and sharp) gets short fits
-    (``_screen``); only the forms whose screened NE beats the recalibrated base's ``ne_base``
-    are polished (``_polish``), since an effect that cannot beat it is not accepted anyway.
-    A hypothesis keeps its best form.
+    Every form of every hypothesis (yielding: smooth and sharp) goes through three kinds of task,
+    each started as soon as what it needs is done, so that the slow forms spread over the workers:
+    its starts (``_starts``: the null point and the best Sobol points), a short fit from each
+    (``_short``), and, only if the best short fit beats the recalibrated base's ``ne_base`` (an
+    effect that cannot is not accepted anyway), a polish (``_polish``).  A hypothesis keeps its
+    best form.
     """
-    from concurrent.futures import ProcessPoolExecutor
+    import heapq
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
-    forms = [(name, v) for name in names for v in range(HYPOTHESES[name].variants)]
-    common = (data, base, chans, trial_list)
-    pool = ProcessPoolExecutor(max_workers=min(jobs, len(forms))) if jobs > 1 and len(forms) > 1 else None
-    run = (lambda f, *a: pool.submit(f, *a)) if pool else (lambda f, *a: _Done(f(*a)))
+    rank = {n: (COST_ORDER.index(n) if n in COST_ORDER else len(COST_ORDER)) for n in names}
+    forms = [(name, v) for name in sorted(names, key=rank.get) for v in range(HYPOTHESES[name].variants)]
+    common = (base, chans, trial_list)
+    workers = min(jobs, 3 * len(forms))
+    pool = ProcessPoolExecutor(max_workers=workers) if jobs > 1 and forms else None
+    pending, queue = {}, []  # tasks wait in ``queue`` (slowest hypothesis first) until a worker is free
+
+    def run(tag, f, *a):
+        heapq.heappush(queue, (rank[tag[1][0]], next(count), tag, f, a))
+        while queue and (not pool or len(pending) < workers):
+            _, _, t, g, args = heapq.heappop(queue)
+            pending[pool.submit(g, *args) if pool else _Done(g(*args))] = t
+
+    final, shorts, left = {}, {form: [] for form in forms}, {}
+    count = iter(range(1 << 30))
     try:
-        screened = {form: run(_screen, *form, *common) for form in forms}
-        polished = {}
-        for form, fut in screened.items():
-            out = fut.result()
-            if not isinstance(out, str) and out[0].ne_mean_after < ne_base:
-                polished[form] = run(_polish, out[0].model_text, out[1], base, chans, trial_list,
-                                     min(POLISH, max_evaluations))
-        for name in names:
-            best = None
-            for form in [f for f in forms if f[0] == name]:
-                out = screened[form].result()
-                if form in polished and not isinstance(out, str):
-                    fit = polished[form].result()
-                    out = (fit if fit.ne_mean_after <= out[0].ne_mean_after else out[0], out[1])
-                if best is None or isinstance(best, str) or (not isinstance(out, str)
-                                                             and out[0].ne_mean_after < best[0].ne_mean_after):
-                    best = out
-            yield name, (best if isinstance(best, str) else (best[0], len(best[1])))
+        for form in forms:
+            run(("starts", form), _starts, *form, data, *common)
+        while pending:
+            done = wait(pending, return_when=FIRST_COMPLETED).done if pool else list(pending)
+            for fut in done:
+                (kind, form), out = pending.pop(fut), fut.result()
+                if isinstance(out, str):  # an augmentation that cannot run is reported, not fatal
+                    final[form] = out
+                elif kind == "starts":
+                    aug, specs, starts = out
+                    left[form] = len(starts)
+                    for st in starts:
+                        run(("short", form), _short, aug, specs, st, *common)
+                elif kind == "short":
+                    shorts[form].append(out)
+                    left[form] -= 1
+                    if left[form] == 0:
+                        fit, specs = min(shorts[form], key=lambda o: o[0].ne_mean_after)
+                        final[form] = (fit, specs)
+                        if fit.ne_mean_after < ne_base:
+                            run(("polish", form), _polish, fit.model_text, specs, *common,
+                                min(POLISH * (len(specs) + 1), max_evaluations))
+                elif out.ne_mean_after <= final[form][0].ne_mean_after:  # a polish that improved
+                    final[form] = (out, final[form][1])
+            while queue and len(pending) < workers:  # the freed workers take the next tasks
+                _, _, t, g, args = heapq.heappop(queue)
+                pending[pool.submit(g, *args)] = t
     finally:
         if pool:
             pool.shutdown()
+    for name in names:
+        outs = [final[f] for f in forms if f[0] == name and f in final]
+        fits = [o for o in outs if not isinstance(o, str)]
+        if fits:
+            best = min(fits, key=lambda o: o[0].ne_mean_after)
+            yield name, (best[0], len(best[1]))
+        elif outs:
+            yield name, outs[0]
 
 
 class _Done:
@@ -317,28 +352,32 @@ class _Done:
         return self.value
 
 
-def _screen(name, variant, data, base, chans, trial_list):
-    """One form of a hypothesis added to ``data``; short fits of its own parameters (the base ones at their
-    nominal values) from its null point and from the best points across its bounds (``_best_candidates``).
-    Started at the null point, least squares (a descent method) cannot end worse than the base model.
-    Returns (the best short fit, its specs), or an error string (an augmentation that cannot run is
-    reported, not fatal)."""
+def _starts(name, variant, data, base, chans, trial_list):
+    """One form of a hypothesis added to ``data``: (the augmented table, its fit specs, its starts: the null
+    point, then the best points across its bounds by ``_best_candidates``), or an error string."""
+    try:
+        aug, specs, null = HYPOTHESES[name].augment(data, variant)
+        return aug, specs, [null] + _best_candidates(aug, specs, base, chans, trial_list)
+    except Exception as exc:  # noqa: BLE001
+        return f"{type(exc).__name__}: {exc}"
+
+
+def _short(aug, specs, start, base, chans, trial_list):
+    """A short fit (SHORT iterations) of a hypothesis's own parameters from ``start``, the base ones at their
+    nominal values.  From the null point, least squares (a descent method) cannot end worse than the base
+    model.  Returns (fit, specs) or an error string."""
     from ..calibrate.fit import calibrate_observer, parse_fit
     from ..calibrate.observe import Observer
     from ..study.paths import set_value
 
     try:
-        aug, specs, null = HYPOTHESES[name].augment(data, variant)
-        best = None
-        for start in [null] + _best_candidates(aug, specs, base, chans, trial_list):
-            trial_data = copy.deepcopy(aug)
-            for path, value in start.items():
-                set_value(trial_data, path, value)
-            fit = calibrate_observer(Observer(trial_data, base, chans, trial_list), parse_fit(specs, trial_data),
-                                     progress=False, max_evaluations=SHORT, tolerance=TOLERANCE, step_fraction=STEP)
-            if best is None or fit.ne_mean_after < best.ne_mean_after:
-                best = fit
-        return best, specs
+        trial_data = copy.deepcopy(aug)
+        for path, value in start.items():
+            set_value(trial_data, path, value)
+        fit = calibrate_observer(Observer(trial_data, base, chans, trial_list), parse_fit(specs, trial_data),
+                                 progress=False, max_evaluations=SHORT * (len(specs) + 1), tolerance=TOLERANCE,
+                                 step_fraction=STEP)
+        return fit, specs
     except Exception as exc:  # noqa: BLE001
         return f"{type(exc).__name__}: {exc}"
 

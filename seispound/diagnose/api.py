@@ -54,11 +54,13 @@ class Diagnosis:
     hypotheses: dict = field(default_factory=dict)
     seconds: float = 0.0
     noise_ne: float = 0.0  # the NE the sensor noise alone leaves (mean over channels, estimated from the data)
+    ne_channels: dict = field(default_factory=dict)  # {trial: {channel: {"before": NE, "after": NE}}}
 
     def report(self) -> dict:
         return {"mismatch": self.mismatch, "left_out": self.left_out, "recalibrated": self.recalibrated,
                 "noise_ne": self.noise_ne,
-                "fit": {"metric": "NE", "before": self.ne_before, "after": self.ne_after},
+                "fit": {"metric": "NE", "before": self.ne_before, "after": self.ne_after,
+                        "per_channel": self.ne_channels},
                 "augmented_model": self.augmented_model, "numerics": self.numerics,
                 "hypotheses": self.hypotheses, "seconds": self.seconds}
 
@@ -254,7 +256,9 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     result = Diagnosis(mismatch=mismatch, left_out=left_out,
                        recalibrated={p: v["value"] for p, v in base_fit.parameters.items()},
                        ne_before=ne_before, ne_after=final.ne_mean_after, augmented_model=written, model_text=text,
-                       numerics=numerics, hypotheses=tried, seconds=time.perf_counter() - t0, noise_ne=noise_ne)
+                       numerics=numerics, hypotheses=tried, seconds=time.perf_counter() - t0, noise_ne=noise_ne,
+                       ne_channels={t.name: {cid: {"before": nes0[k][cid], "after": final.ne_after[t.name][cid]}
+                                             for cid in nes0[k]} for k, t in enumerate(trial_list)})
     if written is not None:
         Path(written).write_text(text, encoding="utf-8")
     if figure is not None:

@@ -63,6 +63,9 @@ def test_diagnose_names_the_effect_or_none(tmp_path, effect):
     assert rep["fit"]["after"] <= 0.5 * rep["fit"]["before"]
     assert rep["fit"]["after"] <= 0.02  # down to the 1 % noise
     assert set(rep) >= {"mismatch", "left_out", "recalibrated", "fit", "augmented_model"}
+    per = [v for nes in rep["fit"]["per_channel"].values() for v in nes.values()]
+    assert len(per) == 4 and abs(np.mean([v["before"] for v in per]) - rep["fit"]["before"]) < 1e-12
+    assert abs(np.mean([v["after"] for v in per]) - rep["fit"]["after"]) < 1e-12
     assert all(set(m) >= {"channel", "t_start", "t_end", "band_hz", "residual_share"} for m in rep["mismatch"])
     from seispound.model import load_model
 

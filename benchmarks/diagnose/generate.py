@@ -134,10 +134,10 @@ def _draw(family, seed, strength, buildings=None):
 
 def _effect_ne(family, seed, strength, t_ag, ag, t, with_effect=None, buildings=None):
     """Mean NE over the recorded channels between the row with the effect and the base model's row (no noise)."""
+    effect_row, edit = _draw(family, seed, strength, buildings)
     if with_effect is None:
-        with_effect = simulate(_draw(family, seed, strength, buildings)[0], t_ag, ag, t)
+        with_effect = simulate(effect_row, t_ag, ag, t)
     row = _draw("none", seed, 1.0, buildings)[0]
-    edit = _draw(family, seed, strength, buildings)[1]
     if edit:  # wrong-parameters: the base model's row has the wrong stiffness and gap sizes
         b = row.buildings[edit["building"]]
         b.stiffness = [k * edit["stiffness_factor"] for k in b.stiffness]

@@ -47,7 +47,8 @@ class FitParameter:
         return [v * x for v in base] if self.factor else x
 
 
-_LINEAR_KEYS = ("restitution", "e0", "e_inf", "e_ref", "min", "max", "ratio", "size")  # fitted on a linear scale
+_RESTITUTION_KEYS = ("restitution", "e0", "e_inf", "e_ref", "min", "max")
+_LINEAR_KEYS = _RESTITUTION_KEYS + ("ratio", "size")  # fitted on a linear scale
 
 
 def default_bounds(path: str, value) -> tuple[float, float, bool]:
@@ -56,7 +57,7 @@ def default_bounds(path: str, value) -> tuple[float, float, bool]:
     if isinstance(value, list):
         return 0.2, 5.0, True  # a factor on a list: masses, stiffnesses per storey
     v = float(value)
-    if last in _LINEAR_KEYS[:6]:
+    if last in _RESTITUTION_KEYS:
         return 0.05, 0.99, False
     if last == "ratio":
         return 0.001, 0.3, False

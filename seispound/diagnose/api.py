@@ -120,7 +120,7 @@ def _recalibrate(data, params, base, chans, trial_list, max_evaluations, noise_n
                            else g * float(get_value(data, p.path))) for p in params}
         over = [(p.path, p.value_at(get_value(data, p.path), starts[p.path])) for p in params]
         sims = obs.simulate(over)
-        rss = sum(float(np.sum((s[q] - r[q]) ** 2) / np.sum(r[q] ** 2)) for s, r in zip(sims, recs) for q in r)
+        rss = _sum_ne2(sims, recs)
         scored.append((rss, len(scored), starts))
     other = fit_from(min(scored)[2])
     return other if other.ne_mean_after < best.ne_mean_after else best
@@ -413,7 +413,7 @@ def _best_candidates(aug, specs, base, chans, trial_list) -> list[dict]:
             sims = obs.simulate(list(start.items()))
         except Exception:  # noqa: BLE001 (a point where the model cannot run is no start)
             continue
-        rss = sum(float(np.sum((s[k] - r[k]) ** 2) / np.sum(r[k] ** 2)) for s, r in zip(sims, recs) for k in r)
+        rss = _sum_ne2(sims, recs)
         scored.append((rss, len(scored), start))
     return [s for _, _, s in sorted(scored)[:STARTS]]
 
@@ -428,6 +428,13 @@ def _polish(text, specs, base, chans, trial_list, max_evaluations):
     start = tomllib.loads(text)
     return calibrate_observer(Observer(start, base, chans, trial_list), parse_fit(specs, start), progress=False,
                               max_evaluations=max_evaluations, tolerance=TOLERANCE, step_fraction=STEP)
+
+
+def _sum_ne2(sims, recs) -> float:
+    """NE^2 summed over trials and channels (seed Eq. 10): the misfit one scan point is judged by."""
+    from ..calibrate.fit import normalised_errors
+
+    return float(sum(v * v for s, r in zip(sims, recs) for v in normalised_errors(s, r).values()))
 
 
 def _rss(fit) -> float:

@@ -10,6 +10,9 @@ each, prints
 * the error of the peak pounding force of every gap and of the peak
   displacement of every floor against a reference run with 512 substeps.
 
+* the cost of an impact: the pounding run's time beyond the same row's no-pounding
+  run, per impact, and the steps taken per impact beyond the analysis steps.
+
 It shows where the time of a run goes: the substeps inside impacts are only
 part of it, so cutting them (and accuracy with them) buys little speed.
 """
@@ -58,11 +61,17 @@ def run(substeps=(8, 12, 16, 24, 32, 64, 128), repeat: int = 5) -> list[dict]:
         r = pound(nmk)
         bare()
         no_pound()
-        t_run, t_bare = [], []
+        t_run, t_bare, t_pound, t_free = [], [], [], []
         for _ in range(repeat):
             t_bare.append(_median_time(bare, 1))
             t_run.append(_median_time(lambda: (pound(nmk), no_pound()), 1))
+            t_pound.append(_median_time(lambda: pound(nmk), 1))
+            t_free.append(_median_time(no_pound, 1))
+        n_imp = max(int(r.impacts["gap"].size), 1)
         rows.append(dict(
+            # what an impact costs: the pounding run beyond the same row never touching, per impact
+            per_impact_s=(statistics.median(t_pound) - statistics.median(t_free)) / n_imp,
+            steps_per_impact=(r.stats["steps"] - an.nsteps) / n_imp,
             substeps=ns, steps=r.stats["steps"], impacts=int(r.impacts["gap"].size),
             impacts_ref=int(ref.impacts["gap"].size),
             run_s=statistics.median(t_run), bare_s=statistics.median(t_bare),
@@ -79,11 +88,12 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     print(f"canonical case ({CANONICAL.name}); errors against {REFERENCE_SUBSTEPS} contact substeps")
     print(f"{'substeps':>8} {'steps':>6} {'impacts':>8} {'run ms':>7} {'bare ms':>8} {'ratio':>6} "
-          f"{'peak force err':>15} {'peak disp err':>14}")
+          f"{'peak force err':>15} {'peak disp err':>14} {'steps/impact':>13} {'us/impact':>10}")
     for r in run(repeat=args.repeat):
         print(f"{r['substeps']:8d} {r['steps']:6d} {r['impacts']:4d}/{r['impacts_ref']:<3d} {r['run_s'] * 1e3:7.2f} "
               f"{r['bare_s'] * 1e3:8.2f} {r['ratio']:6.2f} {r['peak_force_err'] * 100:14.3f}% "
-              f"{r['peak_disp_err'] * 100:13.3f}%", flush=True)
+              f"{r['peak_disp_err'] * 100:13.3f}% {r['steps_per_impact']:13.1f} {r['per_impact_s'] * 1e6:10.1f}",
+              flush=True)
     return 0
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import functools
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -154,16 +155,33 @@ def _to_grid(rec, baseline, dt, nsteps):
 
 
 def _prepare_samples(spec, dt, nsteps, section="ground_motion"):
-    """A ground motion given in memory (GroundMotionSpec.from_array / from_trace) on the analysis grid."""
+    """A ground motion given in memory (GroundMotionSpec.from_array / from_trace) on the analysis grid.
+
+    Kept per (samples, settings, grid), as a file's record is (``_read_prepared``): a study or a
+    fit reruns the same samples.
+    """
     from .motion.record import record_from_samples
 
-    try:
-        rec = record_from_samples(spec.samples, spec.dt, units=spec.units, calibration=spec.calibration,
-                                  scale=spec.scale, source=spec.source or "numpy array")
-        rec = _to_grid(rec, spec.baseline, dt, nsteps)
-    except InputError as err:
-        raise InputError(err.message, file=err.file, key=f"{section}.{err.key}") from None
-    return np.array(rec.acceleration), dict(rec.provenance)
+    samples = np.ascontiguousarray(spec.samples, dtype=float)
+    key = (samples.tobytes(), spec.dt, spec.units, spec.calibration, spec.scale, spec.source, spec.baseline, dt,
+           nsteps)
+    if key not in _SAMPLES:
+        try:
+            rec = record_from_samples(samples, spec.dt, units=spec.units, calibration=spec.calibration,
+                                      scale=spec.scale, source=spec.source or "numpy array")
+            rec = _to_grid(rec, spec.baseline, dt, nsteps)
+        except InputError as err:
+            raise InputError(err.message, file=err.file, key=f"{section}.{err.key}") from None
+        if len(_SAMPLES) >= 32:
+            _SAMPLES.pop(next(iter(_SAMPLES)))
+        ag = np.array(rec.acceleration)
+        ag.setflags(write=False)
+        _SAMPLES[key] = (ag, dict(rec.provenance))
+    ag, prov = _SAMPLES[key]
+    return ag.copy(), copy.deepcopy(prov)
+
+
+_SAMPLES: dict = {}
 
 
 class _SettingError(Exception):

@@ -132,17 +132,26 @@ def _draw(family, seed, strength, buildings=None):
     return row, _apply(family, row, rng, strength)
 
 
-def _effect_ne(family, seed, strength, t_ag, ag, t, with_effect=None, buildings=None):
-    """Mean NE over the recorded channels between the row with the effect and the base model's row (no noise)."""
-    effect_row, edit = _draw(family, seed, strength, buildings)
-    if with_effect is None:
-        with_effect = simulate(effect_row, t_ag, ag, t)
+def _base_row(family, seed, strength, buildings=None):
+    """The row the base model describes: no effect, and for wrong-parameters its wrong stiffness and gap sizes."""
     row = _draw("none", seed, 1.0, buildings)[0]
-    if edit:  # wrong-parameters: the base model's row has the wrong stiffness and gap sizes
+    edit = _draw(family, seed, strength, buildings)[1]
+    if edit:
         b = row.buildings[edit["building"]]
         b.stiffness = [k * edit["stiffness_factor"] for k in b.stiffness]
         row.gaps = [(li, ri, size * edit["gap_factor"]) for li, ri, size in row.gaps]
-    base = simulate(row, t_ag, ag, t)
+    return row
+
+
+def _effect_ne(family, seed, strength, t_ag, ag, t, with_effect=None, buildings=None, base=None):
+    """Mean NE over the recorded channels between the row with the effect and the base model's row (no noise).
+
+    ``with_effect``, ``base``: their simulations if already run.
+    """
+    if with_effect is None:
+        with_effect = simulate(_draw(family, seed, strength, buildings)[0], t_ag, ag, t)
+    if base is None:
+        base = simulate(_base_row(family, seed, strength, buildings), t_ag, ag, t)
     ne = [np.linalg.norm(with_effect[q][k] - base[q][k]) / np.linalg.norm(with_effect[q][k])
           for q in ("acc", "roof") for k in with_effect[q]]
     return float(np.mean(ne))
@@ -152,10 +161,13 @@ def _weak_strength(family, seed, t_ag, ag, dt, buildings=None, target=0.035, lo=
     """The strength in (0, 1] whose effect NE over the first 8 s is nearest ``target``: a secant search on
     log NE against log strength (at most 5 runs), from strength 0.1."""
     t = np.arange(round(8.0 / dt) + 1) * dt
+    # one side does not depend on the strength: the true row (wrong-parameters) or the base model's row
+    fixed = {"with_effect": simulate(_draw(family, seed, 1.0, buildings)[0], t_ag, ag, t)} \
+        if family == "wrong-parameters" else {"base": simulate(_base_row(family, seed, 1.0, buildings), t_ag, ag, t)}
     tried = []
     s = 0.1
     for _ in range(5):
-        ne = max(_effect_ne(family, seed, s, t_ag, ag, t, buildings=buildings), 1e-6)
+        ne = max(_effect_ne(family, seed, s, t_ag, ag, t, buildings=buildings, **fixed), 1e-6)
         tried.append((abs(math.log(ne / target)), s, ne))
         if lo <= ne <= hi:
             break

@@ -229,6 +229,56 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8):
         a = L.Minv @ (f - L.R @ agb)
         return np.concatenate([y[n:2 * n], a, dz, y[2 * n + nh + nb:], agb])
 
+    N = 2 * n + nh + 2 * nb
+    iu, iv, ig, ivg = slice(0, n), slice(n, 2 * n), slice(2 * n + nh, 2 * n + nh + nb), slice(2 * n + nh + nb, N)
+    J0 = np.zeros((N, N))  # the constant part: kinematics, linear storeys, hysteretic springs' elastic share
+    J0[iu, iv] = np.eye(n)
+    J0[iv, iu] = -L.Minv @ L.K
+    J0[iv, iv] = -L.Minv @ L.C
+    J0[ig, ivg] = np.eye(nb)
+    for h, (i, j, k, _dy) in enumerate(L.hyst):
+        col = L.Minv[:, i] - (L.Minv[:, j] if j is not None else 0.0)  # acceleration per unit storey force
+        J0[iv, i] -= row.alpha * k * col
+        if j is not None:
+            J0[iv, j] += row.alpha * k * col
+        J0[iv, 2 * n + h] -= (1 - row.alpha) * k * col
+    # d(gap closure)/d(u, ug) for each gap: the same row serves d(closure rate)/d(v, vg)
+    grad = np.zeros((ng, n + nb))
+    for g, (li, i, ri, j, _size, _f) in enumerate(L.gap_dofs):
+        grad[g, :n] = L.T[i] - L.T[j]
+        grad[g, n + li] += 1.0
+        grad[g, n + ri] -= 1.0
+    pos, vel = np.r_[0:n, 2 * n + nh:2 * n + nh + nb], np.r_[n:2 * n, 2 * n + nh + nb:N]
+
+    def jac(t, y):
+        """The exact Jacobian of ``rhs``: it only steers LSODA's Newton iterations (the error control
+        does not use it), and saves the n finite-difference right-hand sides each Jacobian costs."""
+        J = J0.copy()
+        zs = y[2 * n:2 * n + nh]
+        for h, (i, j, k, dy) in enumerate(L.hyst):
+            dd = y[n + i] - (y[n + j] if j is not None else 0.0)
+            x = abs(zs[h]) / dy
+            w = 0.5 * np.sign(dd * zs[h]) + 0.5
+            dzdd = 1.0 - x ** row.bw_n * w
+            J[2 * n + h, n + i] = dzdd
+            if j is not None:
+                J[2 * n + h, n + j] = -dzdd
+            if zs[h] != 0.0:
+                J[2 * n + h, 2 * n + h] = -dd * w * row.bw_n * x ** (row.bw_n - 1) * np.sign(zs[h]) / dy
+        for g in range(ng):
+            if not closed[g]:
+                continue
+            d, r = gap_state(g, y)
+            if d <= 0.0 or row.k_contact + zeta[g] * r <= 0.0:
+                continue  # no force, or the force clipped at zero
+            dF_dd = 1.5 * (row.k_contact + zeta[g] * r) * math.sqrt(d)
+            dF_dr = zeta[g] * d ** 1.5
+            _li, i, _ri, j, _, _ = L.gap_dofs[g]
+            col = L.Minv @ (L.T[j] - L.T[i])  # acceleration per unit contact force
+            J[n:2 * n, pos] += np.outer(col, dF_dd * grad[g])
+            J[n:2 * n, vel] += np.outer(col, dF_dr * grad[g])
+        return J
+
     def events():
         evs = []
         for g in range(ng):
@@ -244,7 +294,7 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8):
     state_at = [None] * len(t_eval)  # the contact state (closed, zeta) each output sample was computed in
     done = np.zeros(len(t_eval), bool)
     while t < t_end * (1 - 1e-12):
-        sol = solve_ivp(rhs, (t, t_end), y, method="LSODA", rtol=rtol, atol=1e-12, max_step=max_step,
+        sol = solve_ivp(rhs, (t, t_end), y, method="LSODA", rtol=rtol, atol=1e-12, max_step=max_step, jac=jac,
                         events=events() or None, dense_output=True)
         if sol.status < 0:
             raise RuntimeError(sol.message)

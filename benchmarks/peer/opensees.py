@@ -107,21 +107,16 @@ def _read_binary(path, ncol, nrow):
     return np.ascontiguousarray(rows["v"])
 
 
-def run_opensees(model, ag: np.ndarray, dt: float, nsteps: int, tol: float = 1e-9,
-                 algorithm: str = "KrylovNewton") -> PeerResult:
-    """Run ``model`` in OpenSeesPy under ground acceleration ag sampled at k dt (m/s^2), k = 0..nsteps.
-
-    Returns floor displacements and gap forces at every step (read back from
-    binary recorders), their peaks, impact counts and the analysis wall time.
-    ``tol`` [m] is the displacement-increment norm of the Newton test.  With no
-    event location, a step that ends where a gap sits at delta ~ 0 can make the
-    iteration cycle between open and closed (LVe's dashpot force jumps by C
-    times the rate there), and no tolerance is met; such a step is accepted
-    after 50 iterations (OpenSees ``test`` print flag 5) and counted in
-    ``unconverged_steps``.
+def build_opensees(model, ag: np.ndarray, dt: float, nsteps: int, tol: float = 1e-9,
+                   algorithm: str = "KrylovNewton", log: str = os.devnull, system=None):
+    """Build ``model`` in OpenSeesPy under ground acceleration ag sampled at k dt (m/s^2), k = 0..nsteps, up to
+    ``analysis("Transient")``, with no recorders; returns the ``openseespy.opensees`` module, ready for
+    ``analyze(nsteps, dt)``.  ``log``: where OpenSees' messages go.  Node numbering: floor DOF i is node i + 1;
+    storey springs are elements 1..n_el, gaps n_el + 1.. (see ``run_opensees``).  ``system``: the model's
+    assembly, if already made (the flat arrays the OpenSees commands are written from).
     """
     ops = import_opensees()
-    system = assemble(model.buildings, model.gaps, model.contact)
+    system = system or assemble(model.buildings, model.gaps, model.contact)
     for g in range(system.n_gap):
         name = system.links[g].law.name
         if name not in PEER_LAWS:
@@ -130,9 +125,7 @@ def run_opensees(model, ag: np.ndarray, dt: float, nsteps: int, tol: float = 1e-
             raise ValueError("OpenSees' gap materials need a gap > 0")
     n, ng = system.n_dof, system.n_gap
     ops.wipe()
-    log = tempfile.NamedTemporaryFile(prefix="opensees", suffix=".log", delete=False)
-    log.close()
-    ops.logFile(log.name, "-noEcho")  # (the gap materials print every impact)
+    ops.logFile(log, "-noEcho")  # (the gap materials print every impact)
     ops.model("basic", "-ndm", 1, "-ndf", 1)
     floor_node = np.arange(n) + 1
     ground_node = {}
@@ -189,6 +182,29 @@ def run_opensees(model, ag: np.ndarray, dt: float, nsteps: int, tol: float = 1e-
     ops.algorithm(algorithm)
     ops.integrator("Newmark", float(nm.gamma), float(nm.beta))
     ops.analysis("Transient")
+    return ops
+
+
+def run_opensees(model, ag: np.ndarray, dt: float, nsteps: int, tol: float = 1e-9,
+                 algorithm: str = "KrylovNewton") -> PeerResult:
+    """Run ``model`` in OpenSeesPy under ground acceleration ag sampled at k dt (m/s^2), k = 0..nsteps.
+
+    Returns floor displacements and gap forces at every step (read back from
+    binary recorders), their peaks, impact counts and the analysis wall time.
+    ``tol`` [m] is the displacement-increment norm of the Newton test.  With no
+    event location, a step that ends where a gap sits at delta ~ 0 can make the
+    iteration cycle between open and closed (LVe's dashpot force jumps by C
+    times the rate there), and no tolerance is met; such a step is accepted
+    after 50 iterations (OpenSees ``test`` print flag 5) and counted in
+    ``unconverged_steps``.
+    """
+    system = assemble(model.buildings, model.gaps, model.contact)
+    n, ng = system.n_dof, system.n_gap
+    floor_node = np.arange(n) + 1
+    gap_ele0 = system.el_i.size + 1
+    log = tempfile.NamedTemporaryFile(prefix="opensees", suffix=".log", delete=False)
+    log.close()
+    ops = build_opensees(model, ag, dt, nsteps, tol, algorithm, log=log.name, system=system)
     with tempfile.TemporaryDirectory() as tmp:
         fd, ff = Path(tmp) / "disp.bin", Path(tmp) / "force.bin"
         ops.recorder("Node", "-binary", str(fd), "-node", *[int(x) for x in floor_node], "-dof", 1, "disp")

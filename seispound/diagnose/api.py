@@ -226,13 +226,13 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
             tried[name] = {"error": outcome}
             say(f"{name}: could not be fitted ({outcome})")
             continue
-        fit, p = outcome
+        fit, p, polished = outcome
         rss = _rss(fit)
         bic = n_eff * math.log(rss / n) + p * math.log(n_eff)
         gain = 1.0 - fit.ne_mean_after / base_fit.ne_mean_after
         ok = (bic_base - bic) > BIC_MARGIN and gain >= NE_GAIN
         tried[name] = {"ne": fit.ne_mean_after, "delta_bic": bic - bic_base, "ne_gain": gain, "accepted": ok,
-                       "evaluations": fit.evaluations,
+                       "evaluations": fit.evaluations, "polished": polished,
                        "parameters": {q: v["value"] for q, v in fit.parameters.items()}}
         say(f"{name}: NE {fit.ne_mean_after:.4f} ({gain:+.0%} against the recalibrated base), delta BIC "
             f"{bic - bic_base:+.1f}{' -> accepted' if ok else ''}")
@@ -278,14 +278,16 @@ STEP = 1e-3  # finite-difference step, a fraction of each parameter's (log-)rang
 
 
 def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_base):
-    """Yield (name, (fit, number of parameters) or an error string) per hypothesis, fitted in parallel processes.
+    """Yield (name, (fit, number of parameters, whether it was polished) or an error string) per hypothesis,
+    fitted in parallel processes.
 
     Every form of every hypothesis (yielding: smooth and sharp) goes through three kinds of task,
     each started as soon as what it needs is done, so that the slow forms spread over the workers:
     its starts (``_starts``: the null point and the best Sobol points), a short fit from each
-    (``_short``), and, only if the best short fit beats the recalibrated base's ``ne_base`` (an
-    effect that cannot is not accepted anyway), a polish (``_polish``).  A hypothesis keeps its
-    best form.
+    (``_short``), and, if the best short fit beats the recalibrated base's ``ne_base``, a polish
+    (``_polish``).  When no form's short fits beat it, the closest form is polished anyway: only
+    an unexplained base gets here, and ten iterations from the null point or a scan point may
+    not reach a minimum that is far away.  A hypothesis keeps its best form.
     """
     import heapq
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -303,8 +305,13 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
             _, _, t, g, args = heapq.heappop(queue)
             pending[pool.submit(g, *args) if pool else _Done(g(*args))] = t
 
-    final, shorts, left = {}, {form: [] for form in forms}, {}
+    final, shorts, left, polished = {}, {form: [] for form in forms}, {}, set()
     count = iter(range(1 << 30))
+
+    def polish(form):
+        polished.add(form)
+        fit, specs = final[form]
+        run(("polish", form), _polish, fit.model_text, specs, *common, min(POLISH * (len(specs) + 1), max_evaluations))
     try:
         for form in forms:
             run(("starts", form), _starts, *form, data, *common)
@@ -326,8 +333,14 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
                         fit, specs = min(shorts[form], key=lambda o: o[0].ne_mean_after)
                         final[form] = (fit, specs)
                         if fit.ne_mean_after < ne_base:
-                            run(("polish", form), _polish, fit.model_text, specs, *common,
-                                min(POLISH * (len(specs) + 1), max_evaluations))
+                            polish(form)
+                        elif not polished and all(f in final for f in forms):
+                            # nothing got past the screen, yet the base is unexplained (or no hypothesis would be
+                            # tried): a short fit may have started far from its optimum, so the closest form is
+                            # polished all the same
+                            fitted = [f for f in forms if not isinstance(final[f], str)]
+                            if fitted:
+                                polish(min(fitted, key=lambda f: final[f][0].ne_mean_after))
                 elif out.ne_mean_after <= final[form][0].ne_mean_after:  # a polish that improved
                     final[form] = (out, final[form][1])
             while queue and len(pending) < workers:  # the freed workers take the next tasks
@@ -337,13 +350,13 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
         if pool:
             pool.shutdown()
     for name in names:
-        outs = [final[f] for f in forms if f[0] == name and f in final]
-        fits = [o for o in outs if not isinstance(o, str)]
+        outs = [(final[f], f in polished) for f in forms if f[0] == name and f in final]
+        fits = [(o, p) for o, p in outs if not isinstance(o, str)]
         if fits:
-            best = min(fits, key=lambda o: o[0].ne_mean_after)
-            yield name, (best[0], len(best[1]))
+            (fit, specs), was_polished = min(fits, key=lambda o: o[0][0].ne_mean_after)
+            yield name, (fit, len(specs), was_polished)
         elif outs:
-            yield name, outs[0]
+            yield name, outs[0][0]
 
 
 class _Done:

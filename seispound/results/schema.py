@@ -69,6 +69,7 @@ import json
 import numpy as np
 import xarray as xr
 
+from .construct import dataset, variable
 from .peaks import amplifications, dof_peaks, drift_history, storey_arrays
 
 SCHEMA = "seispound-result"
@@ -178,96 +179,101 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
     counts = np.bincount(imp["gap"], minlength=ng) if ng else np.zeros(0, int)
 
     def var(dims, data, units, long_name, **extra):
-        return xr.Variable(dims, data, attrs={"units": units, "long_name": long_name, **extra})
+        return variable(dims, data, {"units": units, "long_name": long_name, **extra})
 
     tbf = ("time", "building", "floor")
-    ds = xr.Dataset(
-        data_vars=dict(
-            displacement=var(tbf, u, "m", "floor displacement relative to the ground (+ to the right)"),
-            velocity=var(tbf, vel, "m/s",
-                         "floor velocity relative to the ground"),
-            acceleration=var(tbf, acc, "m/s^2",
-                             "absolute floor acceleration"),
-            drift=var(tbf, drift, "m", "inter-storey drift (floor minus floor below)"),
-            storey_force=var(tbf, shear, "N", "storey spring force of the storey below the floor: k x drift, or a "
-                                              "yielding storey's force (dashpot force excluded)"),
-            residual_drift=var(("building", "floor"), residual, "m",
-                               "inter-storey drift at the end of the record (permanent drift of a yielding storey)"),
-            pounding_force=var(("time", "gap"), raw.force, "N", "pounding force (compression positive)"),
-            peak_displacement=var(("building", "floor"), peak, "m", "peak |displacement| with pounding"),
-            peak_displacement_no_pounding=var(("building", "floor"), peak0, "m",
-                                              "peak |displacement| without pounding (gaps disabled)"),
-            amplification=var(("building", "floor"), amp, "1",
-                              "displacement amplification: peak with pounding / peak without"),
-            peak_drift=var(("building", "floor"), peak_drift, "m",
-                           "peak |inter-storey drift| (analysis instants)"),
-            **{name: var(("building", "floor"), data, units, what) for name, (data, units, what) in engineering.items()},
-            period=var(("building", "mode"), periods, "s", "fixed-base natural period"),
-            peak_pounding_force=var(("gap",), raw.peak_force, "N", "peak pounding force"),
-            impact_count=var(("gap",), counts.astype(np.int64), "1", "number of impacts"),
-            impact_gap=var(("impact",), imp["gap"].astype(np.int64), "1", "gap element of the impact"),
-            impact_onset=var(("impact",), imp["t0"], "s", "time of first contact"),
-            impact_approach_velocity=var(("impact",), imp["v0"], "m/s",
-                                         "relative approach velocity at first contact"),
-            impact_separation_velocity=var(("impact",), imp["vout"], "m/s",
-                                           "relative separation velocity when the gap reopens"),
-            impact_velocity_ratio=var(("impact",), velocity_ratio, "1",
-                                      "separation / approach velocity of the two floors (an MDoF impact's "
-                                      "apparent restitution: storey forces act during contact, so it may lie "
-                                      "outside [0, 1]; not the law's e)"),
-            impact_peak_force=var(("impact",), imp["fmax"], "N", "peak force of the impact"),
-            impact_duration=var(("impact",), imp["dur"], "s", "contact duration (NaN if still in contact)"),
-            impact_law_restitution=var(("impact",), imp["e"], "1",
-                                       "the law's coefficient of restitution e for this impact (a velocity-"
-                                       "dependent restitution evaluated at the approach velocity); its damping "
-                                       "was set from it"),
-            impact_damping=var(("impact",), imp["zeta"], "law-dependent",
-                               "damping used: zeta [N s/m^(n+1)] for Hd, LHC, Hertzdamp; "
-                               "c [N s/m] for LVe, MLVe; xi-bar [-] for NIVe"),
-            ground_acceleration=var(("time",), ground_acc, "m/s^2", "ground acceleration of the row's record"),
-            base_acceleration=var(("time", "building"), base_acc, "m/s^2",
-                                  "ground acceleration under each building (the row's record unless the building "
-                                  "has a motion of its own)"),
-            base_displacement=var(("time", "building"), base_disp, "m",
-                                  "ground displacement under each building (exact integral of the piecewise-linear "
-                                  "acceleration from rest); absolute floor position = displacement + this"),
-            foundation_sway=var(("time", "building"), sway, "m",
-                                "foundation sway relative to the free field (NaN: a fixed base)"),
-            foundation_rocking=var(("time", "building"), rocking, "rad",
-                                   "foundation rocking, positive when the top moves +x (NaN: a fixed base)"),
-            energy=var(("time", "energy_component"), raw.energy, "J",
-                       "energy balance (relative frame): input = kinetic + strain + damping + contact + "
-                       "hysteretic"),
-        ),
-        coords=dict(
-            time=("time", raw.time, {"units": "s", "long_name": "time"}),
-            building=("building", np.array(b_names, dtype=object), {"long_name": "building, left to right"}),
-            floor=("floor", np.arange(1, nfmax + 1), {"long_name": "floor number (1 = first above ground)"}),
-            mode=("mode", np.arange(1, nfmax + 1), {"long_name": "mode number (1 = fundamental)"}),
-            floor_height=(("building", "floor"), heights, {"units": "m", "long_name": "floor elevation"}),
-            gap=("gap", np.arange(ng), {"long_name": "gap element"}),
-            gap_left=("gap", np.array([b_names[l.left] for l in links], dtype=object),
-                      {"long_name": "left building"}),
-            gap_right=("gap", np.array([b_names[l.right] for l in links], dtype=object),
-                       {"long_name": "right building"}),
-            gap_left_floor=("gap", np.array([l.left_floor for l in links], np.int64), {"units": "1"}),
-            gap_right_floor=("gap", np.array([l.right_floor for l in links], np.int64), {"units": "1"}),
-            gap_height=("gap", np.array([l.height for l in links], float), {"units": "m"}),
-            gap_kind=("gap", np.array([l.kind for l in links], dtype=object),
-                      {"long_name": "floor-to-floor, or floor-to-storey (a floor against the columns between two "
-                                    "floors of the neighbour)"}),
-            gap_left_weight=("gap", np.array([l.left_weight for l in links], float),
-                             {"units": "1", "long_name": "1 for a floor; for a storey, the point's height above "
-                                                         "the floor below / storey height"}),
-            gap_right_weight=("gap", np.array([l.right_weight for l in links], float), {"units": "1"}),
-            gap_size=("gap", system.gap_size.copy(), {"units": "m", "long_name": "at-rest gap"}),
-            gap_law=("gap", np.array([l.law.name for l in links], dtype=object), {"long_name": "contact law"}),
-            impact=("impact", np.arange(ni), {"long_name": "impact number"}),
-            energy_component=("energy_component", np.array(ENERGY_COMPONENTS, dtype=object)),
-        ),
+    data_vars = dict(
+        displacement=var(tbf, u, "m", "floor displacement relative to the ground (+ to the right)"),
+        velocity=var(tbf, vel, "m/s",
+                     "floor velocity relative to the ground"),
+        acceleration=var(tbf, acc, "m/s^2",
+                         "absolute floor acceleration"),
+        drift=var(tbf, drift, "m", "inter-storey drift (floor minus floor below)"),
+        storey_force=var(tbf, shear, "N", "storey spring force of the storey below the floor: k x drift, or a "
+                                          "yielding storey's force (dashpot force excluded)"),
+        residual_drift=var(("building", "floor"), residual, "m",
+                           "inter-storey drift at the end of the record (permanent drift of a yielding storey)"),
+        pounding_force=var(("time", "gap"), raw.force, "N", "pounding force (compression positive)"),
+        peak_displacement=var(("building", "floor"), peak, "m", "peak |displacement| with pounding"),
+        peak_displacement_no_pounding=var(("building", "floor"), peak0, "m",
+                                          "peak |displacement| without pounding (gaps disabled)"),
+        amplification=var(("building", "floor"), amp, "1",
+                          "displacement amplification: peak with pounding / peak without"),
+        peak_drift=var(("building", "floor"), peak_drift, "m",
+                       "peak |inter-storey drift| (analysis instants)"),
+        **{name: var(("building", "floor"), data, units, what) for name, (data, units, what) in engineering.items()},
+        period=var(("building", "mode"), periods, "s", "fixed-base natural period"),
+        peak_pounding_force=var(("gap",), raw.peak_force, "N", "peak pounding force"),
+        impact_count=var(("gap",), counts.astype(np.int64), "1", "number of impacts"),
+        impact_gap=var(("impact",), imp["gap"].astype(np.int64), "1", "gap element of the impact"),
+        impact_onset=var(("impact",), imp["t0"], "s", "time of first contact"),
+        impact_approach_velocity=var(("impact",), imp["v0"], "m/s",
+                                     "relative approach velocity at first contact"),
+        impact_separation_velocity=var(("impact",), imp["vout"], "m/s",
+                                       "relative separation velocity when the gap reopens"),
+        impact_velocity_ratio=var(("impact",), velocity_ratio, "1",
+                                  "separation / approach velocity of the two floors (an MDoF impact's "
+                                  "apparent restitution: storey forces act during contact, so it may lie "
+                                  "outside [0, 1]; not the law's e)"),
+        impact_peak_force=var(("impact",), imp["fmax"], "N", "peak force of the impact"),
+        impact_duration=var(("impact",), imp["dur"], "s", "contact duration (NaN if still in contact)"),
+        impact_law_restitution=var(("impact",), imp["e"], "1",
+                                   "the law's coefficient of restitution e for this impact (a velocity-"
+                                   "dependent restitution evaluated at the approach velocity); its damping "
+                                   "was set from it"),
+        impact_damping=var(("impact",), imp["zeta"], "law-dependent",
+                           "damping used: zeta [N s/m^(n+1)] for Hd, LHC, Hertzdamp; "
+                           "c [N s/m] for LVe, MLVe; xi-bar [-] for NIVe"),
+        ground_acceleration=var(("time",), ground_acc, "m/s^2", "ground acceleration of the row's record"),
+        base_acceleration=var(("time", "building"), base_acc, "m/s^2",
+                              "ground acceleration under each building (the row's record unless the building "
+                              "has a motion of its own)"),
+        base_displacement=var(("time", "building"), base_disp, "m",
+                              "ground displacement under each building (exact integral of the piecewise-linear "
+                              "acceleration from rest); absolute floor position = displacement + this"),
+        foundation_sway=var(("time", "building"), sway, "m",
+                            "foundation sway relative to the free field (NaN: a fixed base)"),
+        foundation_rocking=var(("time", "building"), rocking, "rad",
+                               "foundation rocking, positive when the top moves +x (NaN: a fixed base)"),
+        energy=var(("time", "energy_component"), raw.energy, "J",
+                   "energy balance (relative frame): input = kinetic + strain + damping + contact + "
+                   "hysteretic"),
     )
+    coords = dict(
+        time=("time", raw.time, {"units": "s", "long_name": "time"}),
+        building=("building", np.array(b_names, dtype=object), {"long_name": "building, left to right"}),
+        floor=("floor", np.arange(1, nfmax + 1), {"long_name": "floor number (1 = first above ground)"}),
+        mode=("mode", np.arange(1, nfmax + 1), {"long_name": "mode number (1 = fundamental)"}),
+        floor_height=(("building", "floor"), heights, {"units": "m", "long_name": "floor elevation"}),
+        gap=("gap", np.arange(ng), {"long_name": "gap element"}),
+        gap_left=("gap", np.array([b_names[l.left] for l in links], dtype=object),
+                  {"long_name": "left building"}),
+        gap_right=("gap", np.array([b_names[l.right] for l in links], dtype=object),
+                   {"long_name": "right building"}),
+        gap_left_floor=("gap", np.array([l.left_floor for l in links], np.int64), {"units": "1"}),
+        gap_right_floor=("gap", np.array([l.right_floor for l in links], np.int64), {"units": "1"}),
+        gap_height=("gap", np.array([l.height for l in links], float), {"units": "m"}),
+        gap_kind=("gap", np.array([l.kind for l in links], dtype=object),
+                  {"long_name": "floor-to-floor, or floor-to-storey (a floor against the columns between two "
+                                "floors of the neighbour)"}),
+        gap_left_weight=("gap", np.array([l.left_weight for l in links], float),
+                         {"units": "1", "long_name": "1 for a floor; for a storey, the point's height above "
+                                                     "the floor below / storey height"}),
+        gap_right_weight=("gap", np.array([l.right_weight for l in links], float), {"units": "1"}),
+        gap_size=("gap", system.gap_size.copy(), {"units": "m", "long_name": "at-rest gap"}),
+        gap_law=("gap", np.array([l.law.name for l in links], dtype=object), {"long_name": "contact law"}),
+        impact=("impact", np.arange(ni), {"long_name": "impact number"}),
+        energy_component=("energy_component", np.array(ENERGY_COMPONENTS, dtype=object), {}),
+    )
+    if rods is not None:
+        disp, pos = rods
+        data_vars["node_displacement"] = var(("time", "building", "floor", "node"), disp, "m",
+                                             "displacement of each node of a rod floor (relative to the ground)")
+        coords["node"] = ("node", np.arange(pos.shape[1]), {"long_name": "rod node, left face = 0"})
+        coords["node_position"] = (("building", "node"), pos,
+                                   {"units": "m", "long_name": "node position from the floor's left face"})
     nm = model.analysis.newmark
-    ds.attrs.update(
+    attrs = dict(
         schema=SCHEMA,
         schema_version=SCHEMA_VERSION,
         title=model.title,
@@ -288,14 +294,7 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
         integrator_stats=json.dumps(raw.stats),
         sign_convention="x positive from left building to right; penetration = u_left - u_right - gap",
     )
-    if rods is not None:
-        disp, pos = rods
-        ds["node_displacement"] = xr.Variable(("time", "building", "floor", "node"), disp, attrs={
-            "units": "m", "long_name": "displacement of each node of a rod floor (relative to the ground)"})
-        ds = ds.assign_coords(node=("node", np.arange(pos.shape[1]), {"long_name": "rod node, left face = 0"}),
-                              node_position=(("building", "node"), pos,
-                                             {"units": "m", "long_name": "node position from the floor's left face"}))
-    return ds
+    return dataset(data_vars, coords, attrs)
 
 
 def _rod_nodes(model, system, raw, nb, nfmax):

@@ -64,3 +64,41 @@ def test_free_vibration_impact_test_has_no_record_and_one_impact():
     assert float(ds.impact_velocity_ratio[0]) == pytest.approx(0.7, rel=5e-3)
     # the striker hands most of its momentum to the struck slab: m1 v0 = m1 v1 + m2 v2
     assert float(ds.impact_approach_velocity[0]) == pytest.approx(0.096, rel=1e-6)
+
+
+def test_assembly_is_kept_for_a_model_and_redone_after_an_edit():
+    """Model.assembled keeps the system for the model's content; an edit from Python assembles afresh."""
+    m = sp.load_model(MODEL)
+    m.analysis.duration = 2.0
+    first = m.assembled()
+    assert m.assembled() is first  # kept
+    with pytest.raises(ValueError):  # read-only: shared by every run of the model
+        first.gap_size[0] = 1.0
+    before = sp.simulate(m, twin=False)
+    m.gaps[0].size *= 2.0  # an edit inside a part
+    second = m.assembled()
+    assert second is not first and second.gap_size[0] == pytest.approx(2.0 * first.gap_size[0])
+    after = sp.simulate(m, twin=False)
+    assert float(after.gap_size[0]) == pytest.approx(2.0 * float(before.gap_size[0]))
+    m.buildings[0].storey_stiffness = m.buildings[0].storey_stiffness * 1.1  # a field replaced
+    assert m.assembled() is not second
+    m.buildings[0].storey_stiffness = "not numbers"  # validation still runs on every change
+    with pytest.raises(sp.InputError):
+        m.assembled()
+
+
+def test_in_memory_record_prepared_once_and_not_corruptible():
+    """Samples given in memory are prepared once per content; the caller's copy cannot reach the cache."""
+    from seispound.model.spec import GroundMotionSpec
+
+    m = sp.load_model(MODEL)
+    m.analysis.duration = 2.0
+    acc = np.sin(np.linspace(0.0, 20.0, 401))
+    m.ground_motion = GroundMotionSpec.from_array(acc, 0.01, units="m/s2")
+    a = sp.simulate(m, twin=False)
+    a.ground_acceleration.values[:] = 99.0  # the result's copy
+    b = sp.simulate(m, twin=False)
+    assert float(abs(b.ground_acceleration).max()) <= 1.0
+    m.ground_motion = GroundMotionSpec.from_array(2.0 * acc, 0.01, units="m/s2")
+    c = sp.simulate(m, twin=False)
+    np.testing.assert_allclose(c.ground_acceleration.values, 2.0 * b.ground_acceleration.values)

@@ -127,6 +127,18 @@ class BuildingMotion:
         return self.record is None and not self.delay and self.lowpass is None
 
 
+def _freeze(system) -> None:
+    """Make the arrays of an assembled system read-only: it is shared by every run of its model."""
+    import dataclasses
+
+    import numpy as np
+
+    for f in dataclasses.fields(system):
+        value = getattr(system, f.name)
+        if isinstance(value, np.ndarray):
+            value.setflags(write=False)
+
+
 def _finite(x) -> bool:
     return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
 
@@ -165,7 +177,35 @@ class Model:
         self.assembled()
 
     def assembled(self):
-        """Validate the model and return its assembled arrays (``structure.SystemArrays``), in one pass."""
+        """Validate the model and return its assembled arrays (``structure.SystemArrays``), in one pass.
+
+        Kept for the model's current content, as ``Building.modes`` is: a study, a fit or a
+        script reruns one model, and validation and assembly cost as much as integrating a
+        20 s record on a low-rise pair.  The content is what pickling the parts gives, so any
+        change made from Python (a field set, a building replaced) assembles afresh.  The
+        kept arrays are read-only.
+        """
+        memo = self.__dict__.get("_assembled")
+        if memo is not None and memo[0] == self._content():
+            return memo[1]
+        system = self._assemble()
+        key = self._content()  # after validation, which may normalise fields
+        if key is not None:
+            _freeze(system)
+            self.__dict__["_assembled"] = (key, system)
+        return system
+
+    def _content(self):
+        """The bytes of everything assembly and validation read, or None if a part cannot be pickled."""
+        import pickle
+
+        try:
+            return pickle.dumps((self.buildings, self.gaps, self.contact, self.analysis, self.ground_motion),
+                                protocol=pickle.HIGHEST_PROTOCOL)
+        except Exception:  # noqa: BLE001 (a callable set from Python: no memo, assembled every time)
+            return None
+
+    def _assemble(self):
         names = [b.name for b in self.buildings]
         if not names:
             raise InputError("a model needs at least one [[building]]", file=self.source, key="building")

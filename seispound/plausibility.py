@@ -188,11 +188,13 @@ def _level_findings(model) -> list[Finding]:
         pair = [index.get(n) for n in gap.between]
         if None in pair or gap.levels == "all":
             continue
-        roof = min(b.floor_heights[-1] for b in pair) + HEIGHT_TOLERANCE
+        heights = {b.name: b.floor_heights for b in pair}
+        roof = min(z[-1] for z in heights.values()) + HEIGHT_TOLERANCE
         facing, shared = [], None
         for b, other in (pair, pair[::-1]):
-            h = b.floor_heights[b.floor_heights <= roof]
-            match = np.array([np.any(np.abs(other.floor_heights - x) <= HEIGHT_TOLERANCE) for x in h])
+            z = heights[b.name]
+            h = z[z <= roof]
+            match = np.any(np.abs(heights[other.name][None, :] - h[:, None]) <= HEIGHT_TOLERANCE, axis=1)
             shared = h[match] if shared is None else shared
             facing.append((b, other, np.flatnonzero(~match) + 1, h[~match], h.size))
         most = max(f[4] for f in facing)

@@ -25,6 +25,14 @@ def test_against_scipy_expm(w, zeta, h):
     np.testing.assert_allclose(_ours(w, zeta, h), ref, rtol=1e-11, atol=1e-14 * max(1.0, abs(E).max()))
 
 
+@pytest.mark.parametrize("w", [0.5, 6.0, 60.0, 600.0])
+@pytest.mark.parametrize("zeta", [0.0, 0.05, 1.5])
+@pytest.mark.parametrize("h", [1e-7, 1e-5, 1e-4, 1e-3])
+def test_short_steps_against_scipy_expm(w, zeta, h):
+    """The parts of a step located around events: w h << 1, where the series stops after fewer terms."""
+    test_against_scipy_expm(w, zeta, h)
+
+
 def test_against_chopra_table_5_2_1():
     """Chopra, Dynamics of Structures, Table 5.2.1 (m = 1, k = w^2, zeta < 1)."""
     w, z, h = 2 * math.pi / 0.3, 0.05, 0.01

@@ -27,6 +27,7 @@ import numpy as np
 from .twin import Building, Row, simulate
 
 REPO = Path(__file__).resolve().parents[2]
+BASE_E = 0.65  # the coefficient of restitution of every base model (and of the rows without e(v))
 FAMILIES = ("none", "wrong-parameters", "distributed-mass", "velocity-dependent-restitution",
             "soil-structure-interaction", "inelastic-storey", "spatially-varying-input")
 
@@ -77,8 +78,10 @@ def _apply(family, row, rng, strength):
         for b in row.buildings[1:]:
             b.delay = float(rng.uniform(0.02, 0.08) * strength)
     elif family == "velocity-dependent-restitution":
-        e0, slope = 0.9, float(rng.uniform(0.8, 2.0) * strength)
-        row.restitution = lambda v, e0=e0, s=slope: min(max(e0 - s * v, 0.2), 0.95)
+        # e(v0) = 0.9 - slope v0 at full strength; scaled towards the base model's constant e (BASE_E), so that
+        # a weak instance differs from the base model by its slope, not by a constant e recalibration would absorb
+        slope = float(rng.uniform(0.8, 2.0))
+        row.restitution = lambda v, s=strength, k=slope: min(max(BASE_E + s * (0.9 - BASE_E - k * v), 0.2), 0.95)
     elif family == "soil-structure-interaction":
         for b in row.buildings:
             mt = sum(b.masses)
@@ -225,7 +228,7 @@ def write_case(folder: Path, family: str, seed: int, weak: bool = False, duratio
     st.write(str(folder / "recording.mseed"), format="MSEED", encoding="FLOAT64")
     (folder / "channels.toml").write_text("\n".join(
         f'[[channel]]\nid = "{c}"\nquantity = "{q}"\nbuilding = "{b}"\nfloor = {f}\n' for c, q, b, f in chans))
-    e = row.restitution if not callable(row.restitution) else 0.65
+    e = row.restitution if not callable(row.restitution) else BASE_E
     (folder / "model.toml").write_text(_model_text(row, base_edit, dt, e, duration))
     label = "none" if family in ("none", "wrong-parameters") else family
     return {"family": family, "label": label, "seed": seed, "strength": round(strength, 4), "effect_ne": effect_ne,

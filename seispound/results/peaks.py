@@ -63,11 +63,28 @@ def drift_history(u, below) -> np.ndarray:
     return drift
 
 
+FOLD = 64  # rows folded into one for a column reduction
+
+
+def _column_reduce(ufunc, x) -> np.ndarray:
+    """ufunc.reduce over the rows of x (nt, n), nt >= 1: the same values as ``ufunc.reduce(x, axis=0)``.
+
+    A reduction over the rows of a narrow array runs one short vector operation per row (55 us
+    for 2001 x 8); the rows are first folded FOLD at a time into rows FOLD times as long (9 us).
+    """
+    nt, n = x.shape
+    k = nt // FOLD
+    if k == 0 or not x.flags.c_contiguous:
+        return ufunc.reduce(x, axis=0)
+    out = ufunc.reduce(ufunc.reduce(x[:k * FOLD].reshape(k, FOLD * n), axis=0).reshape(FOLD, n), axis=0)
+    return ufunc(out, ufunc.reduce(x[k * FOLD:], axis=0)) if nt > k * FOLD else out
+
+
 def _peak_abs(x) -> np.ndarray:
     """max_t |x| per column, without an |x| temporary."""
     if x.shape[0] == 0:
         return np.zeros(x.shape[1])
-    return np.maximum(x.max(axis=0), -x.min(axis=0))
+    return np.maximum(_column_reduce(np.maximum, x), -_column_reduce(np.minimum, x))
 
 
 def dof_peaks(raw, below, height, stiff, drift=None) -> dict:

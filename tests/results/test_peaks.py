@@ -100,3 +100,17 @@ def test_without_twin_the_no_pounding_peaks_are_nan(tmp_path):
     assert np.isnan(ds.peak_acceleration_no_pounding.values).all()
     assert np.isnan(ds.acceleration_amplification.values).all()
     assert np.isfinite(ds.peak_acceleration.sel(building="A", floor=slice(1, 4)).values).all()
+
+
+@pytest.mark.parametrize("nt", [1, 63, 64, 65, 2001, 4096])
+def test_folded_column_reduction_equals_numpy(nt):
+    """The row-folded reduction behind the peaks gives numpy's values exactly, NaN included."""
+    from seispound.results.peaks import _column_reduce, _peak_abs
+
+    x = np.random.default_rng(nt).standard_normal((nt, 7))
+    for uf in (np.maximum, np.minimum):
+        np.testing.assert_array_equal(_column_reduce(uf, x), uf.reduce(x, axis=0))
+    np.testing.assert_array_equal(_peak_abs(x), np.abs(x).max(axis=0))
+    x[nt // 2, 3] = np.nan
+    np.testing.assert_array_equal(_peak_abs(x), np.abs(x).max(axis=0))  # a NaN shows in its column only
+    np.testing.assert_array_equal(_column_reduce(np.maximum, x[:, ::2]), x[:, ::2].max(axis=0))  # strided

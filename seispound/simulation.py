@@ -160,28 +160,26 @@ def _prepare_samples(spec, dt, nsteps, section="ground_motion"):
     Kept per (samples, settings, grid), as a file's record is (``_read_prepared``): a study or a
     fit reruns the same samples.
     """
-    from .motion.record import record_from_samples
-
     samples = np.ascontiguousarray(spec.samples, dtype=float)
-    key = (samples.tobytes(), spec.dt, spec.units, spec.calibration, spec.scale, spec.source, spec.baseline, dt,
-           nsteps)
-    if key not in _SAMPLES:
-        try:
-            rec = record_from_samples(samples, spec.dt, units=spec.units, calibration=spec.calibration,
-                                      scale=spec.scale, source=spec.source or "numpy array")
-            rec = _to_grid(rec, spec.baseline, dt, nsteps)
-        except InputError as err:
-            raise InputError(err.message, file=err.file, key=f"{section}.{err.key}") from None
-        if len(_SAMPLES) >= 32:
-            _SAMPLES.pop(next(iter(_SAMPLES)))
-        ag = np.array(rec.acceleration)
-        ag.setflags(write=False)
-        _SAMPLES[key] = (ag, dict(rec.provenance))
-    ag, prov = _SAMPLES[key]
+    try:
+        ag, prov = _samples_prepared(samples.tobytes(), spec.dt, spec.units, spec.calibration, spec.scale,
+                                     spec.source, spec.baseline, dt, nsteps)
+    except InputError as err:
+        raise InputError(err.message, file=err.file, key=f"{section}.{err.key}") from None
     return ag.copy(), copy.deepcopy(prov)
 
 
-_SAMPLES: dict = {}
+@functools.lru_cache(maxsize=32)
+def _samples_prepared(data, rec_dt, units, calibration, scale, source, baseline, dt, nsteps):
+    """(read-only acceleration, provenance) of samples (their bytes) on the analysis grid."""
+    from .motion.record import record_from_samples
+
+    rec = record_from_samples(np.frombuffer(data), rec_dt, units=units, calibration=calibration, scale=scale,
+                              source=source or "numpy array")
+    rec = _to_grid(rec, baseline, dt, nsteps)
+    ag = np.array(rec.acceleration)
+    ag.setflags(write=False)
+    return ag, dict(rec.provenance)
 
 
 class _SettingError(Exception):

@@ -14,6 +14,8 @@ that do not change between runs of a model (building, floor, gap, ...) are kept.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import pandas as pd
 import xarray as xr
@@ -22,7 +24,6 @@ from xarray.indexes import PandasIndex
 __all__ = ["dataset", "variable", "FAST"]
 
 FAST = hasattr(xr.Dataset, "_construct_direct")
-_INDEXES: dict = {}
 
 
 def dataset(data_vars: dict, coords: dict, attrs: dict, *, fast: bool | None = None) -> xr.Dataset:
@@ -67,16 +68,15 @@ def variable(dims, data, attrs) -> xr.Variable:
 
 
 def _index(name, values):
-    """The pandas index of a dimension coordinate, kept for values seen before (at most 256, oldest dropped)."""
-    if values.dtype == object:  # names: hashable as a tuple
-        key = (name, "O", tuple(values.tolist()))
-    else:
-        key = (name, values.dtype.str, values.shape, values.tobytes()) if values.size <= 4096 else None
-    if key is not None and key in _INDEXES:
-        return _INDEXES[key]
-    index = PandasIndex(pd.Index(values), name)
-    if key is not None:
-        if len(_INDEXES) >= 256:
-            _INDEXES.pop(next(iter(_INDEXES)))
-        _INDEXES[key] = index
-    return index
+    """The pandas index of a dimension coordinate, kept for values seen before (up to 4096 of them)."""
+    if values.dtype == object:  # names
+        return _index_of(name, "O", (), tuple(values.tolist()))
+    if values.size <= 4096:
+        return _index_of(name, values.dtype.str, values.shape, values.tobytes())
+    return PandasIndex(pd.Index(values), name)
+
+
+@functools.lru_cache(maxsize=256)
+def _index_of(name, dtype, shape, data):
+    values = np.array(data, dtype=object) if dtype == "O" else np.frombuffer(data, dtype).reshape(shape)
+    return PandasIndex(pd.Index(values), name)

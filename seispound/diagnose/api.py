@@ -31,6 +31,14 @@ import numpy as np
 
 from .hypotheses import HYPOTHESES
 from .locate import locate, noise_sigma
+from .signature import (
+    BAND,
+    Z_ROCKING,
+    band_factors,
+    foundation_shift,
+    rocking_score,
+    shear_modes,
+)
 
 __all__ = ["diagnose", "Diagnosis", "BIC_MARGIN", "NE_GAIN"]
 
@@ -55,6 +63,7 @@ class Diagnosis:
     seconds: float = 0.0
     noise_ne: float = 0.0  # the NE the sensor noise alone leaves (mean over channels, estimated from the data)
     ne_channels: dict = field(default_factory=dict)  # {trial: {channel: {"before": NE, "after": NE}}}
+    signature: dict = field(default_factory=dict)  # {building: the rocking signature (signature.py)}
 
     def report(self) -> dict:
         return {"mismatch": self.mismatch, "left_out": self.left_out, "recalibrated": self.recalibrated,
@@ -62,7 +71,7 @@ class Diagnosis:
                 "fit": {"metric": "NE", "before": self.ne_before, "after": self.ne_after,
                         "per_channel": self.ne_channels},
                 "augmented_model": self.augmented_model, "numerics": self.numerics,
-                "hypotheses": self.hypotheses, "seconds": self.seconds}
+                "signature": self.signature, "hypotheses": self.hypotheses, "seconds": self.seconds}
 
     def summary(self) -> str:
         lines = [f"diagnosis in {self.seconds:.0f} s: NE (mean over channels) {self.ne_before:.4f} (base model as "
@@ -124,6 +133,114 @@ def _recalibrate(data, params, base, chans, trial_list, max_evaluations, noise_n
         scored.append((rss, len(scored), starts))
     other = fit_from(min(scored)[2])
     return other if other.ne_mean_after < best.ne_mean_after else best
+
+
+SENSITIVITY_STEP = 0.003  # the storey-stiffness factor's step for the rocking signature's sensitivity
+
+
+def _rocking_signature(recal, base, chans, trial_list, sims) -> dict:
+    """Per building of two or more floors with floor accelerations: the rocking signature (``signature.py``).
+
+    The recalibrated model's sensitivity to the building's storey-stiffness factor is a central
+    difference of +-SENSITIVITY_STEP (0.3 %: a pounding response is rough on smaller steps, step 4
+    of docs/diagnose.md); ``sims`` are the recalibrated model's channels per trial.  The bands are
+    +-BAND around the building's first two fixed-base modes (recalibrated), when the second lies
+    below 0.45 times the sampling rate.  Returns {building: {"bands_hz", "dk", "sigma", "z"}}.
+    """
+    from ..calibrate.observe import Observer
+    from ..model.toml_loader import parse_model
+
+    model = parse_model(recal, base=base)
+    obs = Observer(recal, base, chans, trial_list)
+    dt = trial_list[0].recording.dt
+    out = {}
+    for b in model.buildings:
+        ids = [c for c in chans if c.building == b.name and c.quantity == "acceleration" and c.floor > 0]
+        stiff = np.asarray(b.storey_stiffness, float)
+        if len(stiff) < 2 or not ids:
+            continue
+        f = shear_modes(b.floor_masses, stiff)[0][:2] / (2.0 * math.pi)
+        if f[1] * (1.0 + BAND) >= 0.45 / dt:
+            continue
+        path = f"building.{b.name}.storey_stiffness"
+        plus, minus = (obs.simulate([(path, list(stiff * (1.0 + s * SENSITIVITY_STEP)))]) for s in (1.0, -1.0))
+        res, sens = {}, {}
+        for k, t in enumerate(trial_list):
+            for c in ids:
+                res[(k, c.id)] = t.recording.data[c.id] - sims[k][c.id]
+                sens[(k, c.id)] = (plus[k][c.id] - minus[k][c.id]) / (2.0 * SENSITIVITY_STEP)
+        bands = [(float(x * (1.0 - BAND)), float(x * (1.0 + BAND))) for x in f]
+        fac = band_factors(res, sens, dt, bands)
+        out[b.name] = {"bands_hz": [list(bd) for bd in bands], "dk": [d for d, _ in fac],
+                       "sigma": [s for _, s in fac], "z": rocking_score(fac)}
+    return out
+
+
+def _joint_soil(recal, base_params, signature, base, chans, trial_list, max_evaluations):
+    """Soil-structure interaction fitted with the base parameters, from the recalibrated model and the
+    shear-wave velocity that the rocking signature implies: (fit, number of parameters, True) or an error string.
+
+    For each building whose signature passes, the first-order shift d_j of ``foundation_shift`` at
+    the augmentation's cone impedances scales as 1 / Vs^2; the Vs whose d_1 - d_2 equals the
+    signature's dk_2 - dk_1 starts the fit, with the storey-stiffness factor that keeps the second
+    mode where the second band asks ((1 + dk_2) / (1 - d_2)).  Other buildings start rigid
+    (Vs 3000 m/s).  The radiation share starts from the better (one simulation each) of the
+    half-space (1) and a stratum that radiates little (0.05).
+    """
+    from dataclasses import replace
+
+    from ..calibrate.fit import calibrate_observer, parse_fit
+    from ..calibrate.observe import Observer
+    from ..foundation import Footing, Soil
+    from ..foundation.model import cone_impedances
+    from ..model.toml_loader import parse_model
+    from ..study.paths import set_value
+
+    try:
+        aug, specs, _null = HYPOTHESES["soil-structure-interaction"].augment(recal)
+        model = parse_model(recal, base=base)
+        starts = {}
+        for b, tb in zip(model.buildings, aug["building"]):
+            key = f"building.{b.name}.foundation.soil.shear_wave_velocity"
+            sig = signature.get(b.name)
+            starts[key] = 3000.0
+            if sig is None or sig["z"] <= Z_ROCKING:
+                continue
+            fd = tb["foundation"]
+            soil = Soil(1000.0, fd["soil"]["density"], fd["soil"]["poisson"])
+            imp = cone_impedances(soil, Footing(width=fd["footing"]["width"], length=fd["footing"]["length"]))
+            d = foundation_shift(b.floor_masses, b.storey_stiffness, b.storey_heights, imp["sway_stiffness"],
+                                 imp["rocking_stiffness"])
+            want = sig["dk"][1] - sig["dk"][0]
+            vs = float(np.clip(1000.0 * math.sqrt(max(d[0] - d[1], 1e-12) / want), 30.0, 3000.0))
+            starts[key] = vs
+            starts[f"building.{b.name}.storey_stiffness"] = (1.0 + sig["dk"][1]) / (1.0 - d[1] * (1000.0 / vs) ** 2)
+        joint = copy.deepcopy(aug)
+        for key, v in starts.items():
+            if key.endswith("shear_wave_velocity"):
+                set_value(joint, key, v)
+        params = parse_fit(specs + [p.path + f"={p.lo}:{p.hi}" for p in base_params], joint)
+        params = [replace(p, start=min(max(starts.get(p.path, p.start), p.lo), p.hi)) for p in params]
+        obs = Observer(joint, base, chans, trial_list)
+        recs = [{c.id: t.recording.data[c.id] for c in chans} for t in trial_list]
+        from ..study.paths import get_value
+
+        scored = []
+        for share in (1.0, 0.05):
+            over = [(p.path, p.value_at(get_value(joint, p.path), p.start)) for p in params
+                    if not p.path.startswith("building.*")]
+            over += [(f"building.{b['name']}.foundation.soil.radiation", share) for b in joint["building"]]
+            scored.append((_sum_ne2(obs.simulate(over), recs), share))
+        share = min(scored)[1]
+        for tb in joint["building"]:
+            tb["foundation"]["soil"]["radiation"] = share
+        params = [replace(p, start=share) if p.path.endswith("soil.radiation") else p for p in params]
+        fit = calibrate_observer(Observer(joint, base, chans, trial_list), params, progress=False,
+                                 max_evaluations=min(POLISH * (len(params) + 1), max_evaluations), tolerance=TOLERANCE,
+                                 step_fraction=STEP)
+        return fit, len(params), True
+    except Exception as exc:  # noqa: BLE001 (an augmentation that cannot run is reported, not fatal)
+        return f"{type(exc).__name__}: {exc}"
 
 
 def _base_specs(data) -> list:
@@ -213,14 +330,31 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     # parallel processes; each fit from its null point (the base model itself) and from starts across its bounds
     tried, accepted = {}, []
     names = list(hypotheses or HYPOTHESES)
+    signature = _rocking_signature(recal, base, chans, trial_list, sims_recal)
+    for b, sig in signature.items():
+        say(f"rocking signature of {b}: the second mode's band asks {sig['dk'][1]:+.3%} on the storey stiffness, "
+            f"the first's {sig['dk'][0]:+.3%} (z {sig['z']:.1f})")
+    outcomes = None
     if base_fit.ne_mean_after <= EXPLAINED * noise_ne:
         # what is left is at most sqrt(1.5^2 - 1) = 1.1 times the noise: below what the noise and the difference
-        # between two correct solvers (Newmark substeps against located events) let one tell apart
-        say(f"the recalibrated model fits to {base_fit.ne_mean_after / noise_ne:.2f} times the noise's NE "
-            f"({noise_ne:.4f}): no physics left to find")
+        # between two correct solvers (Newmark substeps against located events) let one tell apart, unless the
+        # residual carries a physical signature that a recalibrated parameter cannot: then only the hypothesis
+        # it points to is tried, fitted with the base parameters (the signature, not the nominal values, is
+        # what tells it from wrong parameters here)
+        rocking = [b for b, sig in signature.items() if sig["z"] > Z_ROCKING]
+        if rocking and "soil-structure-interaction" in names:
+            say(f"the recalibrated model fits to {base_fit.ne_mean_after / noise_ne:.2f} times the noise's NE "
+                f"({noise_ne:.4f}), but {', '.join(rocking)} show(s) the rocking signature: soil-structure "
+                "interaction tried, with the base parameters")
+            outcomes = [("soil-structure-interaction",
+                         _joint_soil(recal, base_params, signature, base, chans, trial_list, max_evaluations))]
+        else:
+            say(f"the recalibrated model fits to {base_fit.ne_mean_after / noise_ne:.2f} times the noise's NE "
+                f"({noise_ne:.4f}): no physics left to find")
         names = []
-    for name, outcome in _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs,
-                                  base_fit.ne_mean_after):
+    if outcomes is None:
+        outcomes = _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, base_fit.ne_mean_after)
+    for name, outcome in outcomes:
         hyp = HYPOTHESES[name]
         if isinstance(outcome, str):  # an augmentation that cannot run is reported, not fatal
             tried[name] = {"error": outcome}
@@ -242,9 +376,15 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     left_out = []
     for bic, name, fit, hyp, gain in accepted:
         conf = 1.0 / (1.0 + math.exp(-(bic_base - bic - BIC_MARGIN) / BIC_MARGIN))
+        seen = ""
+        if name == "soil-structure-interaction":
+            seen = "".join(f"; {b}'s second-mode band asks {sig['dk'][1]:+.2%} on the storey stiffness, its first "
+                           f"{sig['dk'][0]:+.2%} (z {sig['z']:.1f}): a base flexibility that lowers the first mode "
+                           "more than a storey factor can" for b, sig in signature.items() if sig["z"] > Z_ROCKING)
         left_out.append({"physics": name, "evidence": f"{hyp.what}: adding it lowers the mean NE from "
                          f"{base_fit.ne_mean_after:.4f} to {fit.ne_mean_after:.4f} ({gain:.0%}) and the information "
-                         f"criterion by {bic_base - bic:.0f} (n_eff {n_eff:.0f}); expected signature: {hyp.signature}",
+                         f"criterion by {bic_base - bic:.0f} (n_eff {n_eff:.0f}){seen}; expected signature: "
+                         f"{hyp.signature}",
                          "confidence": round(conf, 3)})
     final = accepted[0][2] if accepted else base_fit
     text = final.model_text
@@ -258,7 +398,8 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
                        ne_before=ne_before, ne_after=final.ne_mean_after, augmented_model=written, model_text=text,
                        numerics=numerics, hypotheses=tried, seconds=time.perf_counter() - t0, noise_ne=noise_ne,
                        ne_channels={t.name: {cid: {"before": nes0[k][cid], "after": final.ne_after[t.name][cid]}
-                                             for cid in nes0[k]} for k, t in enumerate(trial_list)})
+                                             for cid in nes0[k]} for k, t in enumerate(trial_list)},
+                       signature=signature)
     if written is not None:
         Path(written).write_text(text, encoding="utf-8")
     if figure is not None:

@@ -5,7 +5,10 @@
    for everything after (a residual that shrinks with the step is numerics, not physics).
 2. The base model's own parameters recalibrated (storey stiffness factor and damping ratio
    per building, gap sizes): if that explains the data to within EXPLAINED times the NE the
-   sensor noise leaves, no physics is missing and no hypothesis is tried.
+   sensor noise leaves, no physics is missing and no hypothesis is tried, unless a building's
+   residual shows the rocking signature (``signature.py``: its first two modes' bands ask for
+   different storey-stiffness changes, which no storey factor can give); then soil-structure
+   interaction alone is fitted, with the base parameters, under the same acceptance rule.
 3. The recalibrated residual located (``locate.py``): channels, windows, bands.
 4. Each hypothesis (``hypotheses.py``) added to the base model as given and its own parameters
    fitted (the base ones stay nominal: a missing effect is told from wrong parameters by which

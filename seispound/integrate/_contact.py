@@ -67,6 +67,31 @@ def _contact_step(t, t_end, dt, m_act, act_list, code, hsub, age, h_lev, n_lev):
     return h, lev
 
 
+@njit(cache=True, inline="always")
+def _peak_through(fa, fb, fc, ha, hc):
+    """The peak of a contact force between its samples: the vertex of the parabola through
+    (-ha, fa), (0, fb), (hc, fc) when fb is a local maximum, else fb.
+
+    The force of a substepped impact is known at the substeps' ends only, and its
+    maximum falls between two of them: taking the largest sample misses it by up to
+    (omega h)^2 / 8 of the peak for a force ~ sin(omega t) (0.5 % at 16 substeps per
+    impact).  The vertex of the interpolating parabola (Lagrange, unequal spacing) is
+    within O((omega h)^3) of it.  Forces [N], step lengths [s].
+    """
+    if fb < fa or fb < fc or ha <= 0.0 or hc <= 0.0:
+        return fb
+    sa = (fa - fb) / ha
+    sc = (fc - fb) / hc
+    c = (sa + sc) / (ha + hc)  # curvature / 2 (<= 0 here)
+    if c >= 0.0:
+        return fb  # flat: the three samples are equal
+    b = sc - c * hc  # slope at the middle sample
+    x = -b / (2.0 * c)
+    if x < -ha or x > hc:
+        return fb
+    return fb - b * b / (4.0 * c)
+
+
 @njit(cache=True)
 def _end_impact(g, t, rg, m_act, act_list, active, cur_imp, imp_t0, imp_dur, imp_vout):
     """Close gap g's impact at time t with separation rate rg: its catalogue row (duration, exit

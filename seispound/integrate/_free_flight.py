@@ -253,7 +253,7 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
 
 @njit(cache=True)
 def _exact_trial(h, g_t, g_1, beta, gamma, md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam, co, h_co,
-                 u, v, q, qv, Du, Vv, Av):
+                 u, v, q, qv, qa, Du, Vv, Av):
     """A step of size h [s] of the whole row with every gap open, exact for the piecewise-linear ground motion.
 
     The physical path's step around events (the rest of a step after an impact,
@@ -263,7 +263,7 @@ def _exact_trial(h, g_t, g_1, beta, gamma, md_start, md_phi_t, md_phi_tm, md_w2,
     rest of the step expects: u1 = u + Du, v1 = Vv + cc Du, a1 = Av + cm Du
     (cc = gamma / (beta h), cm = 1 / (beta h^2)), so screening, events and
     acceptance run unchanged.  g_t, g_1 (nm,): ground accelerations at the
-    step's ends; q, qv (n,) scratch.  Returns sum (K u)_i u_i at the start
+    step's ends; q, qv, qa (n,) scratch.  Returns sum (K u)_i u_i at the start
     (twice the strain energy), as the Newmark predictor does.
     """
     n = u.size
@@ -272,7 +272,6 @@ def _exact_trial(h, g_t, g_1, beta, gamma, md_start, md_phi_t, md_phi_tm, md_w2,
         h_co[0] = h
     _block_matvec(md_start, md_phi_tm, u, q, False)
     _block_matvec(md_start, md_phi_tm, v, qv, False)
-    qa = np.empty(n)
     es = 0.0
     for j in range(n):
         es += md_w2[j] * q[j] * q[j]
@@ -291,7 +290,7 @@ def _exact_trial(h, g_t, g_1, beta, gamma, md_start, md_phi_t, md_phi_tm, md_w2,
 
 @njit(cache=True)
 def _exact_waiting(lo, hi, co, g0, g1, md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam, u, v, du_w, u_w1, v_w1,
-                   a_w1):
+                   a_w1, q, qv, qa):
     """A waiting step of the buildings on DOFs lo..hi-1, exact for the piecewise-linear ground motion.
 
     Multi-rate stepping's one step per analysis step (``_multirate._waiting_trial``)
@@ -299,12 +298,9 @@ def _exact_waiting(lo, hi, co, g0, g1, md_start, md_phi_t, md_phi_tm, md_w2, md_
     recurrence (coefficients ``co`` (8, n) for the step's length; ``_exact.py``),
     with g0, g1 (nm,) the ground accelerations at the step's ends.  The end
     state goes to u_w1, v_w1, a_w1 and the increment to du_w, as
-    ``_waiting_trial`` leaves them (u, v stay until ``_waiting_commit``).
+    ``_waiting_trial`` leaves them (u, v stay until ``_waiting_commit``).  q, qv, qa (n,):
+    scratch (the caller's modal state, stale on the physical path).
     """
-    n = u.size
-    q = np.empty(n)
-    qv = np.empty(n)
-    qa = np.empty(n)
     _block_matvec_range(md_start, md_phi_tm, u, q, False, lo, hi)
     _block_matvec_range(md_start, md_phi_tm, v, qv, False, lo, hi)
     _modal_steps(co, g0, g1, md_w2, md_c, md_gam, q, qv, qa, lo, hi)

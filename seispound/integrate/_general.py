@@ -44,7 +44,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._contact import _begin_impact, _contact_step, _end_impact, _group_contacts
+from ._contact import _begin_impact, _contact_step, _end_impact, _group_contacts, _peak_through
 from ._elements import _dot, _scatter, assemble_band, kinetic_energy, linear_forces, mass_times, strain_energy
 from ._events import LAND_TOL, _event_in_step
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
@@ -538,10 +538,13 @@ def _accept(h, cm, cc, lin, dof_load, dof_motion, ne_dof, ne_coef, ne_gap, act, 
         if ne_gap[q]:
             e_cont += work
             age[q] += 1
+            # the force's peak between the last three samples of this impact
+            fpk = _peak_through(F_old[q], F[q], F1[q], h_old[q], h) if age[q] >= 2 else F1[q]
+            fpk = max(fpk, F1[q])
             F_old[q] = F[q]
             h_old[q] = h
-            fmax[q] = max(fmax[q], F1[q])
-            imp_fmax[cur_imp[q]] = max(imp_fmax[cur_imp[q]], F1[q])
+            fmax[q] = max(fmax[q], fpk)
+            imp_fmax[cur_imp[q]] = max(imp_fmax[cur_imp[q]], fpk)
         else:
             w_hys += work
             fmax[q] = max(fmax[q], abs(F1[q]))

@@ -98,6 +98,7 @@ from ._contact import (
     _gap_trial,
     _group_contacts,
     _newton,
+    _peak_through,
 )
 from ._events import LAND_TOL, _event_in_step, _screen_step
 from ._exact import exact_coefficients
@@ -505,7 +506,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 for w in range(n_wrun):
                     if exact:  # exact for the piecewise-linear ground motion, as in free flight
                         _exact_waiting(w_lo[w], w_hi[w], ex_co, g_w0, g_w1, md_start, md_phi_t, md_phi_tm, md_w2,
-                                       md_c, md_gam, u, v, du_w, u_w1, v_w1, a_w1)
+                                       md_c, md_gam, u, v, du_w, u_w1, v_w1, a_w1, mq, mqv, mqa)
                     else:
                         _waiting_trial(w_lo[w], w_hi[w], w_elo[w], w_ehi[w], dt, L_lev[0], p, beta, gamma, mass,
                                        dof_a0, dof_motion, el_i, el_j, el_k, el_a1, g_w1, u, v, a, Av, Vv, fs, fd,
@@ -593,7 +594,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
             join_gap = -1
             # ======== ATTEMPT LOOP: predictor, contact Newton, event screen; redone up to an event ========
             for attempt in range(200):
-                # ---- factor K_hat(h): cached per dt/2^k level, scratch otherwise
+                # ---- factor K_hat(h): cached per dt/2^k level, scratch otherwise (none for an
+                # exact step with every gap open: the modal step needs no solve)
+                modal_step = exact and m_act == 0
                 lv = -1
                 if abs(h - h_lev[lev]) <= 1e-9 * h:
                     lv = lev
@@ -601,13 +604,13 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     lv = 0
                 if lv >= 0:
                     h = h_lev[lv]
-                    if not have_lev[lv]:
+                    if not have_lev[lv] and not modal_step:
                         if not _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[lv]):
                             return NEWTON_FAILED, n_imp, t
                         have_lev[lv] = True
                         stats[S_FACTORIZATIONS] += 1
                     Lf = L_lev[lv]
-                else:
+                elif not modal_step:
                     if abs(h - h_cached) > 1e-14 * h:
                         for rr in range(n_run):  # the stepping buildings' rows
                             if not _factor_range(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_h,
@@ -629,10 +632,10 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 # ---- PREDICTOR: the step with every contact force frozen at zero, on the stepping
                 # buildings' runs (exact when no gap is closed)
                 es = 0.0
-                if exact and m_act == 0:
+                if modal_step:
                     # every gap open (around an event): the exact modal step, as in free flight
                     es = _exact_trial(h, g_t, g_1, beta, gamma, md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam,
-                                      ex_h, h_ex, u, v, mq, mqv, Du, Vv, Av)
+                                      ex_h, h_ex, u, v, mq, mqv, mqa, Du, Vv, Av)
                     modal_current = False
                 else:
                     es = _newmark_predictor(n_run, r_lo, r_hi, r_elo, r_ehi, h, Lf, p, beta, gamma, mass, dof_a0,
@@ -835,7 +838,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                             exact_coefficients(md_w2, md_c, hw, ex_h)
                             h_ex[0] = hw
                         _exact_waiting(lo, hi, ex_h, g_w0, g_t, md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam,
-                                       u, v, du_w, u_w1, v_w1, a_w1)
+                                       u, v, du_w, u_w1, v_w1, a_w1, mq, mqv, mqa)
                     elif hw > 0.0:
                         if not _factor_range(hw, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_w,
                                              lo, hi, blk_el[b], blk_el[b + 1]):
@@ -887,13 +890,16 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     fint[ii] -= F1[gq]
                     fint[jj] += F1[gq]
                     e_cont += 0.5 * (F[gq] + F1[gq]) * (Du[ii] - Du[jj])
+                    # the force's peak between the last three samples of this impact
+                    fpk = _peak_through(F_old[gq], F[gq], F1[gq], h_old[gq], h) if age[gq] >= 2 else F1[gq]
+                    fpk = max(fpk, F1[gq])
                     F_old[gq] = F[gq]
                     h_old[gq] = h
                     F[gq] = F1[gq]
-                    if F[gq] > fmax[gq]:
-                        fmax[gq] = F[gq]
-                    if F[gq] > imp_fmax[cur_imp[gq]]:
-                        imp_fmax[cur_imp[gq]] = F[gq]
+                    if fpk > fmax[gq]:
+                        fmax[gq] = fpk
+                    if fpk > imp_fmax[cur_imp[gq]]:
+                        imp_fmax[cur_imp[gq]] = fpk
                 if waiting:
                     for qq in range(n_scr):  # (the other gaps link waiting buildings only)
                         g = scr[qq]

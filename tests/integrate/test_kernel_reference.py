@@ -2,6 +2,11 @@
 
 The file was written by ``python -m tests.integrate.kernel_reference`` before the kernel was split
 into modules; a refactoring must reproduce it to 1e-12 relative to each array's largest entry.
+Peak forces (per gap and per impact) are the one deliberate change since: the pinned ones are
+the largest force sample, the kernel's now the vertex of the parabola through the samples around
+it (``_contact._peak_through``), never below the largest sample (at most 2 % above it here, on a
+grazing impact whose largest sample missed 26 % of the converged peak; closer to the converged
+peaks: tests/verification/test_convergence.py).
 """
 
 import numpy as np
@@ -11,6 +16,7 @@ from tests.integrate.kernel_reference import FILE, cases, run
 
 CASES = cases()
 REFERENCE = np.load(FILE)
+PEAKS = ("peak_force", "impacts.fmax")
 
 
 @pytest.mark.parametrize("name", sorted(CASES))
@@ -22,6 +28,11 @@ def test_outputs_equal_the_pinned_reference(name):
             assert value.shape[1] == ref.shape[1] + 1 and not np.any(value[:, -1]), key
             value = value[:, :-1]
         assert value.shape == ref.shape, (key, value.shape, ref.shape)
+        if key in PEAKS:  # the largest sample then, the interpolated peak now: never below it
+            ok = ~np.isnan(ref)
+            assert np.all(value[ok] >= ref[ok]), key
+            assert np.all(value[ok] <= ref[ok] * 1.05 + 1e-9 * np.max(ref[ok], initial=0.0)), key
+            continue
         if key == "impacts.gap":
             np.testing.assert_array_equal(value, ref)
             continue

@@ -46,17 +46,9 @@ def shear_modes(masses, stiffness) -> tuple[np.ndarray, np.ndarray]:
     """
     from scipy.linalg import eigh
 
-    m = np.asarray(masses, float)
-    k = np.asarray(stiffness, float)
-    n = m.size
-    K = np.zeros((n, n))
-    for s in range(n):
-        K[s, s] += k[s]
-        if s > 0:
-            K[s - 1, s - 1] += k[s]
-            K[s - 1, s] -= k[s]
-            K[s, s - 1] -= k[s]
-    w2, phi = eigh(K, np.diag(m))  # eigh normalises phi^T M phi = I
+    from ..structure.building import shear_stiffness_matrix
+
+    w2, phi = eigh(shear_stiffness_matrix(stiffness), np.diag(np.asarray(masses, float)))  # phi^T M phi = I
     return np.sqrt(w2), phi
 
 

@@ -168,15 +168,7 @@ class Building:
 
     def stiffness_matrix(self) -> np.ndarray:
         """Tridiagonal shear-building stiffness matrix [N/m], shape (N, N) (Chopra Eq. 9.2.4)."""
-        k = self.storey_stiffness
-        n = k.size
-        K = np.zeros((n, n))
-        for i in range(n):
-            K[i, i] += k[i]
-            if i + 1 < n:
-                K[i, i] += k[i + 1]
-                K[i, i + 1] = K[i + 1, i] = -k[i + 1]
-        return K
+        return shear_stiffness_matrix(self.storey_stiffness)
 
     def modes(self):
         """Natural circular frequencies [rad/s], shape (N,), and mass-normalised mode shapes, shape (N, N).
@@ -209,6 +201,20 @@ class Building:
     def damping_matrix(self) -> np.ndarray:
         a0, a1 = self.rayleigh_coefficients()
         return a0 * self.mass_matrix() + a1 * self.stiffness_matrix()
+
+
+def shear_stiffness_matrix(storey_stiffness) -> np.ndarray:
+    """Tridiagonal stiffness matrix [N/m], shape (N, N), of a fixed-base shear building whose storey i
+    [N/m] joins floor i-1 to floor i (floor 0 the ground; Chopra, Dynamics of Structures, Eq. 9.2.4)."""
+    k = np.asarray(storey_stiffness, float)
+    n = k.size
+    K = np.zeros((n, n))
+    for i in range(n):
+        K[i, i] += k[i]
+        if i + 1 < n:
+            K[i, i] += k[i + 1]
+            K[i, i + 1] = K[i + 1, i] = -k[i + 1]
+    return K
 
 
 def _positive_vector(value, key) -> np.ndarray:

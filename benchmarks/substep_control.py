@@ -49,7 +49,7 @@ def _law(name):
 
 
 def _newmark(f, d, r, a, h):
-    """One Newmark step of m_eff d'' = -f(d, d'): (d1, r1, a1), Newton on a1 (secant-free: numeric slope)."""
+    """One Newmark step of m_eff d'' = -f(d, d'): (d1, r1, a1), Newton on a1 with a numeric slope."""
     a1 = a
     for _ in range(60):
         d1 = d + h * r + h * h * ((0.5 - BETA) * a + BETA * a1)

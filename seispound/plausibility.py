@@ -32,13 +32,13 @@ from __future__ import annotations
 import json
 import math
 import warnings
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 
 import numpy as np
 
 from .errors import InputError
 
-__all__ = ["Finding", "PlausibilityWarning", "PGA_LIMIT_G", "check_before_run", "check_after_run",
+__all__ = ["Finding", "PlausibilityWarning", "PGA_LIMIT_G", "check_before_run", "check_model", "check_after_run",
            "issue", "to_json"]
 
 #: Peak ground acceleration [g] above which a record is refused unless forced.
@@ -80,7 +80,8 @@ class Finding:
     refuse: bool = False
 
 
-def check_before_run(model, provenance: dict | None, ground_acceleration=None) -> list[Finding]:
+def check_before_run(model, provenance: dict | None, ground_acceleration=None, *,
+                     model_findings: list | None = None) -> list[Finding]:
     """Findings on a model and its prepared record, before integrating.
 
     Parameters
@@ -93,6 +94,8 @@ def check_before_run(model, provenance: dict | None, ground_acceleration=None) -
     ground_acceleration : array_like, shape (nt,), optional
         The prepared ground acceleration [m/s^2]; its peak stands in for the
         record's PGA if the provenance does not state it.
+    model_findings : list of Finding, optional
+        :func:`check_model` of this model, if the caller kept it (they depend on the model alone).
 
     Returns
     -------
@@ -104,9 +107,13 @@ def check_before_run(model, provenance: dict | None, ground_acceleration=None) -
         if prov.get("pga") is None and ground_acceleration is not None:
             prov["pga"] = float(np.max(np.abs(ground_acceleration), initial=0.0))
         found += _record_findings(model, prov)
-    found += _step_findings(model)
-    found += _level_findings(model)
-    return found
+    return found + list(check_model(model) if model_findings is None else model_findings)
+
+
+def check_model(model) -> list[Finding]:
+    """The findings that depend on the model alone: the analysis step against the modes, and floors that face
+    a storey of the neighbour with no gap element."""
+    return _step_findings(model) + _level_findings(model)
 
 
 def _record_findings(model, prov: dict) -> list[Finding]:
@@ -225,7 +232,7 @@ def check_after_run(ds) -> list[Finding]:
     """Findings on a finished run's result Dataset (impacts whose velocity ratio lies outside [0, 1])."""
     if ds.sizes.get("impact", 0) == 0:
         return []
-    r = np.asarray(ds["impact_velocity_ratio"].values, float)
+    r = np.asarray(ds.variables["impact_velocity_ratio"].values, float)
     out_of = np.isfinite(r) & ((r < 0.0) | (r > 1.0))
     if not out_of.any():
         return []
@@ -249,4 +256,4 @@ def issue(findings, *, force: bool, file=None) -> None:
 
 def to_json(findings) -> str:
     """The findings as a JSON list of {code, message, key, refuse} (stored in ``attrs["plausibility"]``)."""
-    return json.dumps([asdict(f) for f in findings])
+    return json.dumps([dict(vars(f)) for f in findings])  # a Finding's fields are flat: no asdict deep copy

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import copy
 import functools
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -84,11 +83,17 @@ def run_inputs(model):
     Validates and assembles once (``Model.assembled``); shared by :func:`simulate`
     and the study worker.  Returns (SystemArrays, GroundMotions).
     """
-    system = model.assembled()
+    return _run_inputs(model)[1:]
+
+
+def _run_inputs(model):
+    """(what the model keeps for its content, system, motions): :func:`run_inputs` with ``Model.kept()``."""
+    kept = model.kept()
+    system = kept["system"]
     motions = prepare_ground_motions(model)
     if not motions.uniform:
         system = replace(system, dof_motion=motions.dof_motion(system))
-    return system, motions
+    return kept, system, motions
 
 
 def prepare_ground_motions(model) -> GroundMotions:
@@ -166,7 +171,17 @@ def _prepare_samples(spec, dt, nsteps, section="ground_motion"):
                                      spec.source, spec.baseline, dt, nsteps)
     except InputError as err:
         raise InputError(err.message, file=err.file, key=f"{section}.{err.key}") from None
-    return ag.copy(), copy.deepcopy(prov)
+    return ag.copy(), _copy_tree(prov)
+
+
+def _copy_tree(x):
+    """A copy of nested dicts and lists (the provenance), sharing their immutable leaves: a caller may add to
+    its copy, never to the kept one; ``copy.deepcopy``'s generality cost five times as much."""
+    if isinstance(x, dict):
+        return {k: _copy_tree(v) for k, v in x.items()}
+    if isinstance(x, list):
+        return [_copy_tree(v) for v in x]
+    return x
 
 
 @functools.lru_cache(maxsize=32)
@@ -213,15 +228,18 @@ def simulate(model, *, twin: bool = True, force: bool = False) -> xr.Dataset:
         Newton did not converge, or the state became non-finite (the message names the time).
     """
     from . import __version__
-    from .plausibility import check_after_run, check_before_run, issue, to_json
+    from .plausibility import check_after_run, check_before_run, check_model, issue, to_json
     from .results import build_dataset
+    from .results.schema import Layout
 
-    system, motions = run_inputs(model)  # validated as the file reader validates, assembled once
+    kept, system, motions = _run_inputs(model)  # validated as the file reader validates, assembled once
+    if "model_findings" not in kept:
+        kept["model_findings"] = tuple(check_model(model))
     ag, prov = motions.rows[0], motions.provenance
-    findings = check_before_run(model, prov, ag)
+    findings = check_before_run(model, prov, ag, model_findings=kept["model_findings"])
     for i, own in enumerate(motions.per_building):  # a building's own record is checked as the row's is
         if own is not None and isinstance(own["record"], dict):
-            findings += check_before_run(model, own["record"], motions.rows[motions.row_of[i]])
+            findings += check_before_run(model, own["record"], motions.rows[motions.row_of[i]], model_findings=())
     issue(findings, force=force, file=model.source)
     an = model.analysis
     raw = integrate(system, motions.rows, an.dt, an.nsteps, an.newmark, scheme=an.scheme)
@@ -230,7 +248,9 @@ def simulate(model, *, twin: bool = True, force: bool = False) -> xr.Dataset:
     if twin:  # with histories: its peak accelerations, drifts and storey shears (results/peaks.py)
         raw0 = integrate(system.without_contact(), motions.rows, an.dt, an.nsteps, an.newmark, scheme=an.scheme)
         _check_finite(raw0, an.dt, what="the no-pounding twin")
-    ds = build_dataset(model, system, raw, raw0, ag, prov, __version__, motions=motions)
+    if "layout" not in kept:
+        kept["layout"] = Layout(model, system)
+    ds = build_dataset(model, system, raw, raw0, ag, prov, __version__, motions=motions, layout=kept["layout"])
     after = check_after_run(ds)
     issue(after, force=True)
     ds.attrs["plausibility"] = to_json(findings + after)
@@ -247,9 +267,9 @@ def _check_finite(raw, dt, what="the run"):
     """
     from .integrate import IntegrationError
 
-    rows = np.isfinite(raw.energy).all(axis=1)
-    if rows.all() and np.isfinite(raw.peak_displacement).all() and np.isfinite(raw.peak_force).all():
+    if np.isfinite(raw.energy).all() and np.isfinite(raw.peak_displacement).all() and np.isfinite(raw.peak_force).all():
         return
+    rows = np.isfinite(raw.energy).all(axis=1)  # a reduction along rows costs a vector operation per row: only here
     bad = int(np.argmin(rows)) if not rows.all() else raw.energy.shape[0] - 1
     t = float(raw.time[bad]) if raw.time.size > bad else float("nan")
     raise IntegrationError(f"{what} diverged: the state or energy balance is not finite at t = {t:.6g} s "

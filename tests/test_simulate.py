@@ -102,3 +102,57 @@ def test_in_memory_record_prepared_once_and_not_corruptible():
     m.ground_motion = GroundMotionSpec.from_array(2.0 * acc, 0.01, units="m/s2")
     c = sp.simulate(m, twin=False)
     np.testing.assert_allclose(c.ground_acceleration.values, 2.0 * b.ground_acceleration.values)
+
+
+def test_result_layout_and_model_findings_follow_edits():
+    """What simulate keeps with the model's content (the result layout, the model-only findings) is rebuilt
+    after an edit: the periods and gap sizes of the result, and the coarse-step warning, follow the model."""
+    import pickle
+    import warnings
+
+    m = sp.load_model(MODEL)
+    m.analysis.duration = 2.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        first = sp.simulate(m, twin=False)
+        again = sp.simulate(m, twin=False)
+    assert m.kept()["layout"] is not None and "model_findings" in m.kept()
+    assert np.array_equal(first.period.values, again.period.values, equal_nan=True)
+    again.period.values[:] = 0.0  # a result's coordinates and variables are its own
+    again.gap_size.values[:] = 0.0
+    third = sp.simulate(m, twin=False)
+    np.testing.assert_array_equal(third.period.values, first.period.values)
+    np.testing.assert_array_equal(third.gap_size.values, first.gap_size.values)
+    m.buildings[0].storey_stiffness = m.buildings[0].storey_stiffness * 4.0  # periods halve
+    m.gaps[0].size *= 2.0
+    m.analysis.dt = 0.05  # coarse: a finding that depends on the model alone
+    from seispound.plausibility import PlausibilityWarning
+
+    with pytest.warns(PlausibilityWarning, match="steps per period"):
+        edited = sp.simulate(m, twin=False)
+    np.testing.assert_allclose(edited.period.values[0], first.period.values[0] / 2.0, rtol=1e-12)
+    np.testing.assert_allclose(edited.period.values[1], first.period.values[1], rtol=1e-12, equal_nan=True)
+    assert float(edited.gap_size[0]) == pytest.approx(2.0 * float(first.gap_size[0]))
+    assert "coarse_step" in edited.attrs["plausibility"] and "coarse_step" not in first.attrs["plausibility"]
+    # a building pickles without its kept modes, and finds them again
+    b = m.buildings[0]
+    w = b.modes()[0]
+    assert "_modes" in b.__dict__ and "_modes" not in pickle.loads(pickle.dumps(b)).__dict__
+    np.testing.assert_array_equal(pickle.loads(pickle.dumps(b)).modes()[0], w)
+
+
+def test_provenance_of_samples_is_a_copy():
+    """The provenance handed out for samples in memory is a copy: a caller's addition stays its own."""
+    from seispound.model.spec import GroundMotionSpec
+    from seispound.simulation import prepare_ground_motion
+
+    m = sp.load_model(MODEL)
+    m.analysis.duration = 2.0
+    m.ground_motion = GroundMotionSpec.from_array(np.sin(np.linspace(0.0, 20.0, 401)), 0.01, units="m/s2")
+    _, prov = prepare_ground_motion(m)
+    prov["mine"] = 1
+    for v in prov.values():
+        if isinstance(v, list):
+            v.append("mine")
+    _, again = prepare_ground_motion(m)
+    assert "mine" not in again and all("mine" not in v for v in again.values() if isinstance(v, list))

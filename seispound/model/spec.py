@@ -185,15 +185,23 @@ class Model:
         change made from Python (a field set, a building replaced) assembles afresh.  The
         kept arrays are read-only.
         """
+        return self.kept()["system"]
+
+    def kept(self) -> dict:
+        """What is kept for the model's current content: ``{"system": assembled arrays}``, and what the
+        callers add that depends on the content alone (``simulate`` adds its model-only plausibility
+        findings).  Validates and assembles afresh when the content has changed; a dict that is not
+        kept (a part that cannot be pickled) otherwise."""
         memo = self.__dict__.get("_assembled")
         if memo is not None and memo[0] == self._content():
             return memo[1]
         system = self._assemble()
         key = self._content()  # after validation, which may normalise fields
+        kept = {"system": system}
         if key is not None:
             _freeze(system)
-            self.__dict__["_assembled"] = (key, system)
-        return system
+            self.__dict__["_assembled"] = (key, kept)
+        return kept
 
     def _content(self):
         """The bytes of everything assembly and validation read, or None if a part cannot be pickled."""

@@ -70,7 +70,7 @@ import numpy as np
 import xarray as xr
 
 from .construct import dataset, variable
-from .peaks import amplifications, dof_peaks, drift_history, storey_arrays
+from .peaks import PEAKS, amplifications, dof_peaks, drift_history, storey_arrays
 
 SCHEMA = "seispound-result"
 SCHEMA_VERSION = 3
@@ -109,19 +109,81 @@ def _scatter(dst, src, runs, b_of, f_of):
         dst[:, i, :nf] = src[:, c0:c0 + nf]
 
 
-def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, version, motions=None) -> xr.Dataset:
-    """Assemble the result Dataset of one run (see the module docstring for the schema)."""
+class Layout:
+    """What a model's result Datasets share from run to run: names, sizes, the (building, floor) layout of the
+    DOFs, storey arrays, periods and the coordinates that do not depend on the run.
+
+    ``simulate`` keeps it with the model's content (``Model.kept``), so a script, study or fit that reruns a
+    model builds it once; the arrays are the layout's own and are copied into each Dataset.
+    """
+
+    def __init__(self, model, system_dofs):
+        from .floors import floor_view
+
+        system = floor_view(None, system_dofs)[1]
+        self.system = system
+        self.names = [b.name for b in model.buildings]
+        nb = self.nb = len(self.names)
+        nfmax = self.nfmax = max(b.n_floors for b in model.buildings)
+        self.heights = np.full((nb, nfmax), np.nan)
+        self.periods = np.full((nb, nfmax), np.nan)
+        for i, b in enumerate(model.buildings):
+            self.heights[i, : b.n_floors] = b.floor_heights
+            self.periods[i, : b.n_floors] = b.periods
+        self.runs = _building_runs(system, nb)
+        self.below, self.storey_h, self.storey_k = storey_arrays(system, model.buildings)
+        self.storey_k_floor = _per_floor(self.storey_k, system, nb, nfmax)
+        links = system.links
+        self.ng = len(links)
+        self.law_names = json.dumps(sorted({lk.law.name for lk in links}))
+        self.coords = _static_coords(self.names, nfmax, self.heights, links, system.gap_size)
+
+    def per_floor(self, values):
+        """DOF-indexed values (..., n) on the (..., building, floor) layout, NaN-padded."""
+        return _per_floor(values, self.system, self.nb, self.nfmax)
+
+
+def _static_coords(b_names, nfmax, heights, links, gap_size) -> dict:
+    """The coordinates that depend on the model alone: {name: (dims, values, attrs)}."""
+    return dict(
+        building=("building", np.array(b_names, dtype=object), {"long_name": "building, left to right"}),
+        floor=("floor", np.arange(1, nfmax + 1), {"long_name": "floor number (1 = first above ground)"}),
+        mode=("mode", np.arange(1, nfmax + 1), {"long_name": "mode number (1 = fundamental)"}),
+        floor_height=(("building", "floor"), heights, {"units": "m", "long_name": "floor elevation"}),
+        gap=("gap", np.arange(len(links)), {"long_name": "gap element"}),
+        gap_left=("gap", np.array([b_names[lk.left] for lk in links], dtype=object),
+                  {"long_name": "left building"}),
+        gap_right=("gap", np.array([b_names[lk.right] for lk in links], dtype=object),
+                   {"long_name": "right building"}),
+        gap_left_floor=("gap", np.array([lk.left_floor for lk in links], np.int64), {"units": "1"}),
+        gap_right_floor=("gap", np.array([lk.right_floor for lk in links], np.int64), {"units": "1"}),
+        gap_height=("gap", np.array([lk.height for lk in links], float), {"units": "m"}),
+        gap_kind=("gap", np.array([lk.kind for lk in links], dtype=object),
+                  {"long_name": "floor-to-floor, or floor-to-storey (a floor against the columns between two "
+                                "floors of the neighbour)"}),
+        gap_left_weight=("gap", np.array([lk.left_weight for lk in links], float),
+                         {"units": "1", "long_name": "1 for a floor; for a storey, the point's height above "
+                                                     "the floor below / storey height"}),
+        gap_right_weight=("gap", np.array([lk.right_weight for lk in links], float), {"units": "1"}),
+        gap_size=("gap", np.array(gap_size, float), {"units": "m", "long_name": "at-rest gap"}),
+        gap_law=("gap", np.array([lk.law.name for lk in links], dtype=object), {"long_name": "contact law"}),
+    )
+
+
+def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, version, motions=None,
+                  layout: Layout | None = None) -> xr.Dataset:
+    """Assemble the result Dataset of one run (see the module docstring for the schema).
+
+    ``layout``: the model's :class:`Layout`, if the caller keeps it (built here otherwise).
+    """
     from .floors import floor_view, foundation_motion
 
+    lay = Layout(model, system) if layout is None else layout
     system_dofs, raw_dofs = system, raw
-    raw, system = floor_view(raw, system_dofs)
+    raw = floor_view(raw, system_dofs)[0]
     raw_twin = floor_view(raw_twin, system_dofs)[0]
-    b_names = [b.name for b in model.buildings]
-    nb = len(b_names)
-    nfmax = max(b.n_floors for b in model.buildings)
-    heights = np.full((nb, nfmax), np.nan)
-    for i, b in enumerate(model.buildings):
-        heights[i, : b.n_floors] = b.floor_heights
+    system = lay.system
+    b_names, nb, nfmax = lay.names, lay.nb, lay.nfmax
 
     # the five (time, building, floor) histories share one buffer: one large
     # allocation is backed by huge pages (a few page faults instead of thousands)
@@ -129,43 +191,42 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
     hist = np.full((5, nt, nb, nfmax), np.nan)
     b_of, f_of = system.dof_building, system.dof_floor - 1
     u, vel, acc, drift, shear = hist
-    runs = _building_runs(system, nb)
+    runs = lay.runs
     _scatter(u, raw.displacement, runs, b_of, f_of)
     _scatter(vel, raw.velocity, runs, b_of, f_of)
     _scatter(acc, raw.acceleration, runs, b_of, f_of)
     # drift per DOF: floor minus the floor below (the ground below the first)
-    below, storey_h, storey_k = storey_arrays(system, model.buildings)
+    below, storey_h, storey_k = lay.below, lay.storey_h, lay.storey_k
     drift_dof = raw.drift if raw.drift is not None else drift_history(raw.displacement, below)
     _scatter(drift, drift_dof, runs, b_of, f_of)
     # storey force k x drift, elementwise on the (building, floor) layout (no second scatter);
     # a yielding storey's own force where there is one
-    np.multiply(drift, _per_floor(storey_k, system, nb, nfmax), out=shear)
+    np.multiply(drift, lay.storey_k_floor, out=shear)
     if raw.storey_force is not None and raw.storey_dofs.size:
         shear[:, b_of[raw.storey_dofs], f_of[raw.storey_dofs]] = raw.storey_force
     peaks = dof_peaks(raw, below, storey_h, storey_k, drift_dof)
     peaks0 = None if raw_twin is None else dof_peaks(raw_twin, below, storey_h, storey_k)
     amps = amplifications(peaks, peaks0)
+    # every per-DOF quantity onto the (building, floor) layout in one scatter
     nan = np.full(system.n_dof, np.nan)
-    peak = _per_floor(peaks["displacement"], system, nb, nfmax)
-    peak0 = _per_floor(nan if peaks0 is None else peaks0["displacement"], system, nb, nfmax)
-    peak_drift = _per_floor(peaks["drift"], system, nb, nfmax)
-    residual = _per_floor(peaks["residual_drift"], system, nb, nfmax)
-    amp = _per_floor(amps["displacement"], system, nb, nfmax)
+    names = [q for q, _, _ in PEAKS]
+    rows = ([peaks[q] for q in names] + [nan if peaks0 is None else peaks0[q] for q in names]
+            + [amps[q] for q in names] + [peaks["residual_drift"]])
+    floors = lay.per_floor(np.stack(rows))
+    with_, without, amp_of = (dict(zip(names, floors[i * len(names):(i + 1) * len(names)])) for i in range(3))
+    residual = floors[-1]
+    peak, peak0, peak_drift, amp = with_["displacement"], without["displacement"], with_["drift"], \
+        amp_of["displacement"]
     engineering = {}
     for name, units, what in (("acceleration", "m/s^2", "peak |absolute floor acceleration| (analysis instants)"),
                               ("drift_ratio", "1", "peak |inter-storey drift| / storey height (storey below)"),
                               ("storey_shear", "N", "peak |storey shear| = storey spring force k x drift "
                                                     "(storey below; dashpot force excluded)")):
-        engineering[f"peak_{name}"] = (_per_floor(peaks[name], system, nb, nfmax), units, f"{what}, with pounding")
-        engineering[f"peak_{name}_no_pounding"] = (
-            _per_floor(nan if peaks0 is None else peaks0[name], system, nb, nfmax), units,
-            f"{what}, without pounding (gaps disabled)")
-        engineering[f"{name}_amplification"] = (_per_floor(amps[name], system, nb, nfmax), "1",
-                                                f"{name.replace('_', ' ')} amplification: peak with pounding / "
-                                                "peak without")
-    periods = np.full((nb, nfmax), np.nan)
-    for i, b in enumerate(model.buildings):
-        periods[i, : b.n_floors] = b.periods
+        engineering[f"peak_{name}"] = (with_[name], units, f"{what}, with pounding")
+        engineering[f"peak_{name}_no_pounding"] = (without[name], units, f"{what}, without pounding (gaps disabled)")
+        engineering[f"{name}_amplification"] = (amp_of[name], "1", f"{name.replace('_', ' ')} amplification: "
+                                                "peak with pounding / peak without")
+    periods = lay.periods.copy()
 
     base_acc, base_disp = _base_motion(motions, ground_acc, model.analysis.dt, nb)
     sway, rocking = foundation_motion(raw_dofs, system_dofs, nb)
@@ -239,32 +300,10 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
                    "energy balance (relative frame): input = kinetic + strain + damping + contact + "
                    "hysteretic"),
     )
-    coords = dict(
-        time=("time", raw.time, {"units": "s", "long_name": "time"}),
-        building=("building", np.array(b_names, dtype=object), {"long_name": "building, left to right"}),
-        floor=("floor", np.arange(1, nfmax + 1), {"long_name": "floor number (1 = first above ground)"}),
-        mode=("mode", np.arange(1, nfmax + 1), {"long_name": "mode number (1 = fundamental)"}),
-        floor_height=(("building", "floor"), heights, {"units": "m", "long_name": "floor elevation"}),
-        gap=("gap", np.arange(ng), {"long_name": "gap element"}),
-        gap_left=("gap", np.array([b_names[l.left] for l in links], dtype=object),
-                  {"long_name": "left building"}),
-        gap_right=("gap", np.array([b_names[l.right] for l in links], dtype=object),
-                   {"long_name": "right building"}),
-        gap_left_floor=("gap", np.array([l.left_floor for l in links], np.int64), {"units": "1"}),
-        gap_right_floor=("gap", np.array([l.right_floor for l in links], np.int64), {"units": "1"}),
-        gap_height=("gap", np.array([l.height for l in links], float), {"units": "m"}),
-        gap_kind=("gap", np.array([l.kind for l in links], dtype=object),
-                  {"long_name": "floor-to-floor, or floor-to-storey (a floor against the columns between two "
-                                "floors of the neighbour)"}),
-        gap_left_weight=("gap", np.array([l.left_weight for l in links], float),
-                         {"units": "1", "long_name": "1 for a floor; for a storey, the point's height above "
-                                                     "the floor below / storey height"}),
-        gap_right_weight=("gap", np.array([l.right_weight for l in links], float), {"units": "1"}),
-        gap_size=("gap", system.gap_size.copy(), {"units": "m", "long_name": "at-rest gap"}),
-        gap_law=("gap", np.array([l.law.name for l in links], dtype=object), {"long_name": "contact law"}),
-        impact=("impact", np.arange(ni), {"long_name": "impact number"}),
-        energy_component=("energy_component", np.array(ENERGY_COMPONENTS, dtype=object), {}),
-    )
+    coords = dict(time=("time", raw.time, {"units": "s", "long_name": "time"}),
+                  **{k: (d, v.copy(), dict(a)) for k, (d, v, a) in lay.coords.items()},
+                  impact=("impact", np.arange(ni), {"long_name": "impact number"}),
+                  energy_component=("energy_component", np.array(ENERGY_COMPONENTS, dtype=object), {}))
     if rods is not None:
         disp, pos = rods
         data_vars["node_displacement"] = var(("time", "building", "floor", "node"), disp, "m",
@@ -284,7 +323,7 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
         record=json.dumps(record_provenance) if record_provenance else "none",
         building_ground_motion=json.dumps({} if motions is None else {
             name: own for name, own in zip(b_names, motions.per_building) if own is not None}),
-        contact_law=json.dumps(sorted({l.law.name for l in links})),
+        contact_law=lay.law_names,
         dt=float(model.analysis.dt),
         duration=float(model.analysis.nsteps * model.analysis.dt),
         newmark_beta=float(nm.beta),

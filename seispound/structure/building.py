@@ -184,6 +184,11 @@ class Building:
             self.__dict__["_modes"] = memo
         return memo[1], memo[2].copy()
 
+    def __getstate__(self):
+        """Pickled without the kept modes (recomputed on demand): a model's content, which keys what
+        ``Model.assembled`` keeps, is its parts' pickle, and the memo's arrays tripled its cost."""
+        return {k: v for k, v in self.__dict__.items() if k != "_modes"}
+
     @property
     def periods(self) -> np.ndarray:
         """Natural periods [s], shape (N,), longest first."""

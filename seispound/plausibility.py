@@ -81,7 +81,7 @@ class Finding:
 
 
 def check_before_run(model, provenance: dict | None, ground_acceleration=None, *,
-                     model_findings: list | None = None) -> list[Finding]:
+                     model_findings=None) -> list[Finding]:
     """Findings on a model and its prepared record, before integrating.
 
     Parameters
@@ -94,7 +94,7 @@ def check_before_run(model, provenance: dict | None, ground_acceleration=None, *
     ground_acceleration : array_like, shape (nt,), optional
         The prepared ground acceleration [m/s^2]; its peak stands in for the
         record's PGA if the provenance does not state it.
-    model_findings : list of Finding, optional
+    model_findings : sequence of Finding, optional
         :func:`check_model` of this model, if the caller kept it (they depend on the model alone).
 
     Returns

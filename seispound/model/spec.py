@@ -189,8 +189,8 @@ class Model:
 
     def kept(self) -> dict:
         """What is kept for the model's current content: ``{"system": assembled arrays}``, and what the
-        callers add that depends on the content alone (``simulate`` adds its model-only plausibility
-        findings).  Validates and assembles afresh when the content has changed; a dict that is not
+        callers add that depends on the content alone (``simulate`` adds the result's
+        ``results.schema.Layout`` and the model-only plausibility findings).  Validates and assembles afresh when the content has changed; a dict that is not
         kept (a part that cannot be pickled) otherwise."""
         memo = self.__dict__.get("_assembled")
         if memo is not None and memo[0] == self._content():

@@ -1,6 +1,6 @@
 """What ``simulate`` spends outside the kernel, part by part, and what xarray alone costs for the result.
 
-``python -m benchmarks.outside [--case pair|lve|row] [--repeat 200]``
+``python -m benchmarks.outside [--case pair|lve|row] [--repeat 200] [--cold DT]``
 
 The user's path on one of the peer cases (``benchmarks/peer/userpath.py``; the record in
 memory, dt 0.01 s, 4 contact substeps, ``twin=False``) is run as ``simulate`` runs it, each
@@ -16,6 +16,10 @@ guards after.  Reported: the minimum and median of each over ``--repeat`` calls,
   columns into a NaN-padded buffer, the least NumPy work the schema's layout needs.
 
 Their sum over the kernel's time bounds the share outside the kernel from below.
+
+``--cold DT``: before each timed call, OpenSeesPy analyses the same case at step DT (as
+``benchmarks.peer.userpath`` alternates the two programs), so that each part is timed with
+the caches another program left; the floors are then not timed.
 """
 
 from __future__ import annotations
@@ -113,12 +117,26 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m benchmarks.outside", description=__doc__.split("\n\n")[0])
     ap.add_argument("--case", choices=sorted(CASES), default="pair")
     ap.add_argument("--repeat", type=int, default=200)
+    ap.add_argument("--cold", type=float, default=None, metavar="DT",
+                    help="run OpenSeesPy on the case at step DT before each timed call")
     args = ap.parse_args(argv)
     warnings.simplefilter("ignore")  # the guards' warnings are part of the timed path, not of the report
     case = cases(20.0)[CASES[args.case]]
     model = user_model(case, 0.01, 4)
     for _ in range(20):
         _parts(model)
+    if args.cold is not None:
+        from benchmarks.peer.userpath import time_opensees
+
+        rows = []
+        for _ in range(args.repeat):
+            time_opensees(case, args.cold)
+            rows.append(_parts(model)[0])
+        rows = np.array(rows)
+        print(f"{case.name}: after OpenSeesPy at dt {args.cold:g} each time; {args.repeat} calls, us (min / median)")
+        for name, col in zip(PARTS, rows.T):
+            print(f"  {name:38s} {col.min() * 1e6:8.0f} {np.median(col) * 1e6:8.0f}")
+        return 0
     rows = np.array([_parts(model)[0] for _ in range(args.repeat)])
     whole = _times(lambda: sp.simulate(model, twin=False), args.repeat)
     _, ds, raw = _parts(model)

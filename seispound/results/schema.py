@@ -134,7 +134,6 @@ class Layout:
         self.below, self.storey_h, self.storey_k = storey_arrays(system, model.buildings)
         self.storey_k_floor = _per_floor(self.storey_k, system, nb, nfmax)
         links = system.links
-        self.ng = len(links)
         self.law_names = json.dumps(sorted({lk.law.name for lk in links}))
         self.coords = _static_coords(self.names, nfmax, self.heights, links, system.gap_size)
 
@@ -215,8 +214,8 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
     floors = lay.per_floor(np.stack(rows))
     with_, without, amp_of = (dict(zip(names, floors[i * len(names):(i + 1) * len(names)])) for i in range(3))
     residual = floors[-1]
-    peak, peak0, peak_drift, amp = with_["displacement"], without["displacement"], with_["drift"], \
-        amp_of["displacement"]
+    peak, peak0, amp = with_["displacement"], without["displacement"], amp_of["displacement"]
+    peak_drift = with_["drift"]
     engineering = {}
     for name, units, what in (("acceleration", "m/s^2", "peak |absolute floor acceleration| (analysis instants)"),
                               ("drift_ratio", "1", "peak |inter-storey drift| / storey height (storey below)"),

@@ -66,6 +66,9 @@ class Diagnosis:
     noise_ne: float = 0.0  # the NE the sensor noise alone leaves (mean over channels, estimated from the data)
     ne_channels: dict = field(default_factory=dict)  # {trial: {channel: {"before": NE, "after": NE}}}
     signature: dict = field(default_factory=dict)  # {building: the rocking signature (signature.py)}
+    verdict: str = ""  # the conclusion in words: explained, or how far above the noise and where
+    instrument_fault: dict | None = None  # a channel left out as a suspected instrument fault
+    kept_as_given: bool = False  # no fitted model beat the model as given, which is kept
 
     def report(self) -> dict:
         return {"mismatch": self.mismatch, "left_out": self.left_out, "recalibrated": self.recalibrated,
@@ -73,7 +76,9 @@ class Diagnosis:
                 "fit": {"metric": "NE", "before": self.ne_before, "after": self.ne_after,
                         "per_channel": self.ne_channels},
                 "augmented_model": self.augmented_model, "numerics": self.numerics,
-                "signature": self.signature, "hypotheses": self.hypotheses, "seconds": self.seconds}
+                "signature": self.signature, "hypotheses": self.hypotheses, "seconds": self.seconds,
+                "verdict": self.verdict, "instrument_fault": self.instrument_fault,
+                "kept_as_given": self.kept_as_given}
 
     def summary(self) -> str:
         lines = [f"diagnosis in {self.seconds:.0f} s: NE (mean over channels) {self.ne_before:.4f} (base model as "
@@ -81,14 +86,18 @@ class Diagnosis:
         n = self.numerics
         lines.append(f"  numerics: NE between the model's settings and half the step {n['ne']:.2g} "
                      f"({'sufficient' if n['sufficient'] else 'refined for the rest'})")
-        if self.left_out:
-            for item in self.left_out:
-                lines.append(f"  left out: {item['physics']} (confidence {item['confidence']:.2f}): {item['evidence']}")
-        else:
-            lines.append("  no physics is missing: recalibrating the base model's parameters explains the data "
-                         f"(noise alone leaves NE {self.noise_ne:.4f})")
+        for item in self.left_out:
+            lines.append(f"  left out: {item['physics']} ({item['share']:.0%} of the improvement): "
+                         f"{item['evidence']}")
+            for q in item.get("quantities", []):
+                lines.append(f"    {q['name']}: {_interval(q)}")
+        if self.instrument_fault:
+            f = self.instrument_fault
+            lines.append(f"  suspected instrument fault: {f['channel']} ({f['reason']}); left out of the fit")
+        lines.append(f"  {self.verdict}")
         for path, v in self.recalibrated.items():
-            lines.append(f"  recalibrated {path} = {v:.6g}")
+            what = "factor on the nominal list" if path.endswith(("stiffness", "masses")) else ""
+            lines.append(f"  recalibrated {path} = {v:.6g}{' (' + what + ')' if what else ''}")
         for m in self.mismatch[:3]:
             lines.append(f"  mismatch: {m['channel']} holds {m['residual_share']:.0%} of the residual, most in "
                          f"{m['t_start']:.1f}-{m['t_end']:.1f} s ({m['impacts_in_window']} impacts in it; "
@@ -252,7 +261,8 @@ def _base_specs(data) -> list:
         d = b.get("damping", {})
         if isinstance(d, dict) and d.get("kind", "rayleigh") == "rayleigh":
             d.setdefault("ratio", 0.05)
-            specs.append(f"building.{b['name']}.damping.ratio")
+            # an undamped model (a pendulum impact test) is a valid start: its bounds then begin at zero
+            specs.append(f"building.{b['name']}.damping.ratio" + ("=0:0.3" if float(d["ratio"]) < 0.001 else ""))
     for i, _ in enumerate(data.get("gap", []), start=1):
         specs.append(f"gap.{i}.size")
     return specs
@@ -330,8 +340,15 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
                       impact_times=recal_obs.impact_times[0])
     # 4. hypotheses: each added to the base model as given (its nominal parameters) and fitted alone, in
     # parallel processes; each fit from its null point (the base model itself) and from starts across its bounds
-    tried, accepted = {}, []
-    names = list(hypotheses or HYPOTHESES)
+    tried = {}
+    names = []
+    for name in (hypotheses or HYPOTHESES):
+        why = HYPOTHESES[name].applies(data)
+        if why:  # a physics that cannot apply to this model is left out, with the reason
+            tried[name] = {"applies": False, "reason": why}
+            say(f"{name}: left out ({why})")
+        else:
+            names.append(name)
     signature = _rocking_signature(recal, base, chans, trial_list, sims_recal)
     for b, sig in signature.items():
         say(f"rocking signature of {b}: the second mode's band asks {sig['dk'][1]:+.3%} on the storey stiffness, "
@@ -355,57 +372,67 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
                 f"({noise_ne:.4f}): no physics left to find")
         names = []
     if outcomes is None:
+        say(f"fitting {len(names)} hypotheses in all their forms ({jobs} at once)")
         outcomes = _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, base_fit.ne_mean_after)
-    for name, outcome in outcomes:
-        hyp = HYPOTHESES[name]
-        if isinstance(outcome, str):  # an augmentation that cannot run is reported, not fatal
-            tried[name] = {"error": outcome}
-            say(f"{name}: could not be fitted ({outcome})")
-            continue
-        fit, p, polished = outcome
-        rss = _rss(fit)
-        bic = n_eff * math.log(rss / n) + p * math.log(n_eff)
-        gain = 1.0 - fit.ne_mean_after / base_fit.ne_mean_after
-        ok = (bic_base - bic) > BIC_MARGIN and gain >= NE_GAIN
-        tried[name] = {"ne": fit.ne_mean_after, "delta_bic": bic - bic_base, "ne_gain": gain, "accepted": ok,
-                       "evaluations": fit.evaluations, "polished": polished,
-                       "parameters": {q: v["value"] for q, v in fit.parameters.items()}}
-        say(f"{name}: NE {fit.ne_mean_after:.4f} ({gain:+.0%} against the recalibrated base), delta BIC "
-            f"{bic - bic_base:+.1f}{' -> accepted' if ok else ''}")
-        if ok:
-            accepted.append((bic, name, fit, hyp, gain))
-    accepted.sort(key=lambda a: a[0])
-    left_out = []
-    for bic, name, fit, hyp, gain in accepted:
-        conf = 1.0 / (1.0 + math.exp(-(bic_base - bic - BIC_MARGIN) / BIC_MARGIN))
-        seen = ""
-        if name == "soil-structure-interaction":
-            seen = "".join(f"; {b}'s second-mode band asks {sig['dk'][1]:+.2%} on the storey stiffness, its first "
-                           f"{sig['dk'][0]:+.2%} (z {sig['z']:.1f}): a base flexibility that lowers the first mode "
-                           "more than a storey factor can" for b, sig in signature.items() if sig["z"] > Z_ROCKING)
-        left_out.append({"physics": name, "evidence": f"{hyp.what}: adding it lowers the mean NE from "
-                         f"{base_fit.ne_mean_after:.4f} to {fit.ne_mean_after:.4f} ({gain:.0%}) and the information "
-                         f"criterion by {bic_base - bic:.0f} (n_eff {n_eff:.0f}){seen}; expected signature: "
-                         f"{hyp.signature}",
-                         "confidence": round(conf, 3)})
-    final = accepted[0][2] if accepted else base_fit
+    ref = _Step(None, base_fit, bic_base, 0)
+    accepted, entries = _judge(outcomes, ref, n, n_eff, say)
+    tried.update(entries)
+    steps = []
+    if accepted:
+        steps.append(accepted[0])
+        # 5. two effects at once: from the model with the first physics, the others tried again; a second is
+        # accepted under the same rule against the first's fit (real buildings rarely lack only one thing)
+        rest = [nm for nm in names if nm != accepted[0].name]
+        if rest and accepted[0].fit.ne_mean_after > EXPLAINED * noise_ne:
+            say(f"after {accepted[0].name} the misfit is {accepted[0].fit.ne_mean_after / noise_ne:.1f} times the "
+                f"noise: the other hypotheses tried on top of it")
+            second = tomllib.loads(accepted[0].fit.model_text)
+            more, entries = _judge(_fit_all(rest, second, base, chans, trial_list, max_evaluations, jobs,
+                                            accepted[0].fit.ne_mean_after), accepted[0], n, n_eff, say)
+            for name, entry in entries.items():
+                tried.setdefault(name, {})["on_top_of_" + accepted[0].name] = entry
+            if more:
+                steps.append(more[0])
+    left_out = _left_out(steps, base_fit, n_eff, signature)
+    final = steps[-1].fit if steps else base_fit
     text = final.model_text
+    ne_after = final.ne_mean_after
+    ne_final = {t.name: final.ne_after[t.name] for t in trial_list}
+    # 6. a channel no candidate matches while the others fit: a suspected instrument fault, left out of the fit
+    fault = None
+    if ne_after > EXPLAINED * noise_ne and len(chans) > 2:
+        fault = _instrument_fault(data, base_params, base, chans, trial_list, max_evaluations, final, outcomes,
+                                  say)
+        if fault is not None:
+            final = fault.pop("fit")
+            text, ne_after = final.model_text, final.ne_mean_after
+            ne_final = {t.name: final.ne_after[t.name] for t in trial_list}
+    kept_as_given = ne_after > ne_before  # never worse than the model as given, by the metric reported
+    if kept_as_given:
+        say(f"no fitted model beats the model as given (NE {ne_before:.4f} against {ne_after:.4f}): it is kept")
+        text, ne_after, left_out = model.text, ne_before, []
+        ne_final = {t.name: dict(nes0[k]) for k, t in enumerate(trial_list)}
+    noise_used = noise_ne if fault is None else fault["noise_ne_others"]
+    verdict = _verdict(ne_after, noise_used, left_out, kept_as_given, fault, mismatch)
+    say(verdict)
     written = None
     if output is not None or report is not None:
         written = os.fspath(output) if output is not None else os.fspath(Path(report).with_name(
             Path(model.source or "model").stem + "_augmented.toml"))
-        text = _rebased(text, base, Path(written).parent)
+        fit_text, text = text, _rebased(text, base, Path(written).parent)
+    else:
+        fit_text = text
     result = Diagnosis(mismatch=mismatch, left_out=left_out,
                        recalibrated={p: v["value"] for p, v in base_fit.parameters.items()},
-                       ne_before=ne_before, ne_after=final.ne_mean_after, augmented_model=written, model_text=text,
+                       ne_before=ne_before, ne_after=ne_after, augmented_model=written, model_text=text,
                        numerics=numerics, hypotheses=tried, seconds=time.perf_counter() - t0, noise_ne=noise_ne,
-                       ne_channels={t.name: {cid: {"before": nes0[k][cid], "after": final.ne_after[t.name][cid]}
+                       ne_channels={t.name: {cid: {"before": nes0[k][cid], "after": ne_final[t.name].get(cid)}
                                              for cid in nes0[k]} for k, t in enumerate(trial_list)},
-                       signature=signature)
+                       signature=signature, verdict=verdict, instrument_fault=fault, kept_as_given=kept_as_given)
     if written is not None:
         Path(written).write_text(text, encoding="utf-8")
     if figure is not None:
-        sims_final = Observer(tomllib.loads(final.model_text), base, chans, trial_list).simulate([])[0]
+        sims_final = Observer(tomllib.loads(fit_text), base, chans, trial_list).simulate([])[0]
         _figure(figure, first, sims0[0], sims_final, mismatch)
     if report is not None:
         Path(report).write_text(json.dumps(result.report(), indent=2), encoding="utf-8")
@@ -591,6 +618,137 @@ def _sum_ne2(sims, recs) -> float:
     from ..calibrate.fit import normalised_errors
 
     return float(sum(v * v for s, r in zip(sims, recs) for v in normalised_errors(s, r).values()))
+
+
+@dataclass
+class _Step:
+    """A model in the search: the fit, its information criterion, the parameters fitted to reach it (beyond the
+    recalibrated base's), and the step it was added to."""
+
+    name: str | None
+    fit: object
+    bic: float
+    p: int
+    gain: float = 0.0
+    prev: "_Step | None" = None
+
+
+def _judge(outcomes, ref, n, n_eff, say):
+    """The fitted hypotheses against ``ref`` (BIC by more than BIC_MARGIN and NE by NE_GAIN): (the accepted
+    steps, best BIC first; {name: report entry})."""
+    accepted, entries = [], {}
+    for name, outcome in outcomes:
+        if isinstance(outcome, str):  # an augmentation that cannot run is reported, not fatal
+            entries[name] = {"error": outcome}
+            say(f"{name}: could not be fitted ({outcome})")
+            continue
+        fit, p, polished = outcome
+        bic = n_eff * math.log(max(_rss(fit), 1e-300) / n) + (ref.p + p) * math.log(n_eff)
+        gain = 1.0 - fit.ne_mean_after / ref.fit.ne_mean_after
+        ok = (ref.bic - bic) > BIC_MARGIN and gain >= NE_GAIN
+        entries[name] = {"ne": fit.ne_mean_after, "delta_bic": bic - ref.bic, "ne_gain": gain, "accepted": ok,
+                         "evaluations": fit.evaluations, "polished": polished,
+                         "parameters": {q: v["value"] for q, v in fit.parameters.items()}}
+        word = f"{gain:.0%} better" if gain >= 0 else f"{-gain:.0%} worse"
+        say(f"{name}: NE {fit.ne_mean_after:.4f} ({word} than {ref.name or 'the recalibrated base'}), "
+            f"delta BIC {bic - ref.bic:+.1f}{' -> accepted' if ok else ''}")
+        if ok:
+            accepted.append(_Step(name, fit, bic, ref.p + p, gain, ref))
+    accepted.sort(key=lambda st: st.bic)
+    return accepted, entries
+
+
+def _left_out(steps, base_fit, n_eff, signature) -> list:
+    """The accepted physics in the order they were added: evidence, share of the improvement, quantities."""
+    from .quantities import quantities
+
+    total = base_fit.ne_mean_after - (steps[-1].fit.ne_mean_after if steps else base_fit.ne_mean_after)
+    out = []
+    for st in steps:
+        hyp = HYPOTHESES[st.name]
+        before = st.prev.fit.ne_mean_after
+        conf = 1.0 / (1.0 + math.exp(-(st.prev.bic - st.bic - BIC_MARGIN) / BIC_MARGIN))
+        seen = ""
+        if st.name == "soil-structure-interaction":
+            seen = "".join(f"; {b}'s second-mode band asks {sig['dk'][1]:+.2%} on the storey stiffness, its first "
+                           f"{sig['dk'][0]:+.2%} (z {sig['z']:.1f}, the difference in standard errors): a base "
+                           "flexibility that lowers the first mode more than a storey factor can"
+                           for b, sig in signature.items() if sig["z"] > Z_ROCKING)
+        on = f" on top of {st.prev.name}" if st.prev.name else ""
+        out.append({"physics": st.name, "evidence": f"{hyp.what}: adding it{on} lowers the mean NE from "
+                    f"{before:.4f} to {st.fit.ne_mean_after:.4f} ({st.gain:.0%}) and the information "
+                    f"criterion by {st.prev.bic - st.bic:.0f} (n_eff {n_eff:.0f}){seen}; expected signature: "
+                    f"{hyp.signature}",
+                    "share": (before - st.fit.ne_mean_after) / total if total > 0 else 1.0,
+                    "confidence": round(conf, 3), "quantities": quantities(st.name, st.fit)})
+    return out
+
+
+FAULT_SHARE = 0.5  # a channel holding at least this share of the residual is a candidate instrument fault
+FAULT_RATIO = 3.0  # ... if no candidate brings it within this many times its noise's NE
+
+
+def _instrument_fault(data, base_params, base, chans, trial_list, max_evaluations, final, outcomes, say):
+    """A channel that no candidate model matches while the others fit: recalibrated without it, and reported.
+
+    The candidate is the channel holding at least FAULT_SHARE of the final model's residual.  It is a
+    suspected fault when, with the base parameters recalibrated on the other channels, those fit to within
+    EXPLAINED times their noise, while it stays above FAULT_RATIO times its own noise's NE under that fit
+    and under every hypothesis fitted.  Returns {channel, reason, ne, noise_ne, noise_ne_others, fit} or None.
+    """
+    from ..calibrate.fit import normalised_errors
+    from ..calibrate.observe import Observer
+
+    rss = {c.id: sum(final.ne_after[t.name][c.id] ** 2 for t in trial_list) for c in chans}
+    worst = max(rss, key=rss.get)
+    if rss[worst] < FAULT_SHARE * sum(rss.values()):
+        return None
+    noise = {c.id: float(np.mean([noise_sigma(t.recording.data[c.id]) * math.sqrt(t.recording.npts)
+                                  / max(np.linalg.norm(t.recording.data[c.id]), 1e-300) for t in trial_list]))
+             for c in chans}
+    fitted = [o[0] for _, o in outcomes if not isinstance(o, str)]
+    best_any = min([float(np.mean([f.ne_after[t.name][worst] for t in trial_list])) for f in fitted + [final]])
+    if best_any <= FAULT_RATIO * noise[worst]:
+        return None
+    others = [c for c in chans if c.id != worst]
+    say(f"{worst} holds {rss[worst] / sum(rss.values()):.0%} of the residual and no candidate matches it: "
+        "the base parameters recalibrated without it")
+    fit = _recalibrate(data, base_params, base, others, trial_list, max_evaluations,
+                       float(np.mean([noise[c.id] for c in others])))
+    noise_others = float(np.mean([noise[c.id] for c in others]))
+    sims = Observer(__import__("tomllib").loads(fit.model_text), base, chans, trial_list).simulate([])
+    ne_worst = float(np.mean([normalised_errors(s, {worst: t.recording.data[worst]})[worst]
+                              for s, t in zip(sims, trial_list)]))
+    if fit.ne_mean_after > EXPLAINED * noise_others or ne_worst <= FAULT_RATIO * noise[worst]:
+        return None
+    return {"channel": worst, "ne": ne_worst, "noise_ne": noise[worst], "noise_ne_others": noise_others,
+            "reason": f"NE {ne_worst:.3f} against its noise's {noise[worst]:.4f} under every model tried, while "
+                      f"the other channels fit to {fit.ne_mean_after / noise_others:.2f} times their noise",
+            "fit": fit}
+
+
+def _verdict(ne, noise_ne, left_out, kept_as_given, fault, mismatch) -> str:
+    """The conclusion in words: explained (near the noise), or how far above the noise and where the misfit is."""
+    ratio = ne / max(noise_ne, 1e-300)
+    named = " and ".join(item["physics"] for item in left_out)
+    base = f"with {named} added" if named else "with its own parameters recalibrated"
+    if ratio <= EXPLAINED:
+        return f"the model {base} explains the data: NE {ne:.4f}, {ratio:.2f} times what the sensor noise leaves"
+    where = ""
+    if mismatch:
+        m = mismatch[0]
+        where = (f"; most of it on {m['channel']} ({m['residual_share']:.0%} of the residual) in "
+                 f"{m['t_start']:.1f}-{m['t_end']:.1f} s, above the noise in {m['band_hz'][0]:.1f}-"
+                 f"{m['band_hz'][1]:.1f} Hz")
+    head = ("no fitted model beats the model as given, which is kept" if kept_as_given else
+            f"nothing in the library explains the misfit {'beyond ' + named if named else ''}".rstrip())
+    return f"{head}: NE {ne:.4f} remains {ratio:.1f} times what the sensor noise leaves{where}"
+
+
+def _interval(q) -> str:
+    if q.get("stderr") is None:
+        return f"{q['value']:.4g} {q['units']} (not identified: {q.get('reason', 'the data do not constrain it')})"
+    return f"{q['value']:.4g} +- {q['stderr']:.2g} {q['units']} (one standard error)"
 
 
 def _rss(fit) -> float:

@@ -24,6 +24,11 @@ class Hypothesis:
     what: str  # what was left out, in words
     signature: str  # what the residual should show
 
+    def applies(self, data: dict) -> str | None:
+        """Why this physics cannot apply to the model file's table ``data``, or None when it can."""
+        check = _APPLIES.get(self.name)
+        return check(data) if check else None
+
     @property
     def variants(self) -> int:
         """How many forms the augmentation takes (each fitted; the best is kept)."""
@@ -114,6 +119,24 @@ def _spatial(d):
         null[f"building.{b['name']}.ground_motion.delay"] = 0.0
     return specs, null
 
+
+def _needs_gaps(what):
+    return lambda d: None if d.get("gap") else f"the model has no gap element, so no impact {what}"
+
+
+def _needs_two(d):
+    return None if len(d.get("building", [])) >= 2 else ("a single building: the ground motion is the record itself, "
+                                                          "there is no second base for it to differ at")
+
+
+def _needs_storeys(d):
+    return None if d.get("building") else "the model has no building"
+
+
+_APPLIES = {"velocity-dependent-restitution": _needs_gaps("whose restitution could vary"),
+            "spatially-varying-input": _needs_two,
+            "distributed-mass": _needs_gaps("to set the floors' axial waves ringing"), "inelastic-storey": _needs_storeys,
+            "soil-structure-interaction": _needs_storeys}
 
 _AUGMENT = {"distributed-mass": [_distributed_mass], "velocity-dependent-restitution": [_velocity_restitution],
             "soil-structure-interaction": [_soil], "inelastic-storey": [_bouc_wen, _bilinear],

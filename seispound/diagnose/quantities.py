@@ -1,0 +1,214 @@
+"""A named physics in physical terms: the quantities its fit determines, with standard errors.
+
+Each quantity is a function of the fitted parameters; its standard error comes from the fit's
+covariance (the calibration's sandwich, ``calibrate.fit``) by the delta method, with central
+differences of the function (sigma_q^2 = g^T C g, g = dq/dx).  A quantity whose parameters
+sit at a bound of the fit, or whose standard error is zero or not finite, is reported as not
+identified, with the reason, never with a standard error of zero.
+
+Quantities (units in each entry):
+
+* soil-structure-interaction: each building's soil shear-wave velocity and first-mode period on
+  its foundation (beside the fixed-base one), the share of the half-space's radiation damping;
+* distributed-mass: each building's first free-free axial frequency of a floor (the lumped chain
+  of the rod floor as modelled), the axial damping ratio;
+* inelastic-storey: each building's yield drift, the post-yield stiffness ratio (and Bouc-Wen's
+  exponent);
+* velocity-dependent-restitution: e at impact velocities of 0.1 and 0.5 m/s;
+* spatially-varying-input: each building's delay.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+
+import numpy as np
+
+__all__ = ["quantities", "flexible_base_period"]
+
+
+def flexible_base_period(masses, stiffness, heights, sway, rocking, m0, i0) -> float:
+    """First-mode period [s] of a shear building on a rigid foundation that sways and rocks on springs.
+
+    Derived here (not read): floor i's total displacement is x_i + u0 + z_i theta, with x the storey
+    deformations' sum relative to the foundation, u0 its sway and theta its rocking; the mass matrix
+    is T^T diag(m, m0, i0) T in (x, u0, theta) with the floors' rotary inertia neglected, the
+    stiffness matrix blockdiag(K_shear, sway, rocking) [N/m, N m/rad]; masses [kg], heights [m].
+    """
+    from scipy.linalg import eigh
+
+    from ..structure.building import shear_stiffness_matrix
+
+    m = np.asarray(masses, float)
+    n = m.size
+    z = np.cumsum(np.asarray(heights, float))
+    T = np.zeros((n + 2, n + 2))
+    T[:n, :n] = np.eye(n)
+    T[:n, n], T[:n, n + 1] = 1.0, z
+    T[n, n], T[n + 1, n + 1] = 1.0, 1.0
+    M = T.T @ np.diag(np.concatenate([m, [m0, i0]])) @ T
+    K = np.zeros((n + 2, n + 2))
+    K[:n, :n] = shear_stiffness_matrix(np.asarray(stiffness, float))
+    K[n, n], K[n + 1, n + 1] = sway, rocking
+    w2 = eigh(K, M, eigvals_only=True)
+    return 2.0 * math.pi / math.sqrt(w2[0])
+
+
+def _first_axial(mass, axial_stiffness, segments) -> float:
+    """First nonzero free-free frequency [Hz] of a chain of segments + 1 lumped masses (halves at the ends)."""
+    from scipy.linalg import eigh
+
+    nodes = segments + 1
+    w = np.full(nodes, mass / segments)
+    w[[0, -1]] *= 0.5
+    K = np.zeros((nodes, nodes))
+    k = axial_stiffness * segments  # a rod of axial stiffness EA / L: each of S segments is S times as stiff
+    for p in range(segments):
+        K[p:p + 2, p:p + 2] += k * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    return math.sqrt(max(eigh(K, np.diag(w), eigvals_only=True)[1], 0.0)) / (2.0 * math.pi)
+
+
+def _covariance(fit, paths):
+    sd = np.array([fit.parameters[p]["stderr"] for p in paths], float)
+    names = list(fit.parameters)
+    idx = [names.index(p) for p in paths]
+    corr = np.nan_to_num(np.asarray(fit.correlation, float)[np.ix_(idx, idx)], nan=0.0)
+    np.fill_diagonal(corr, 1.0)
+    return np.outer(sd, sd) * corr
+
+
+def _delta(fit, name, units, fn, paths, rel=1e-4) -> dict:
+    """{name, value, stderr, units} of fn(values) by the delta method; stderr None (with the reason) when the
+    fit does not identify one of ``paths``."""
+    x = {p: float(fit.parameters[p]["value"]) for p in fit.parameters}
+    value = float(fn(x))
+    for p in paths:
+        q = fit.parameters[p]
+        if q["at_bound"]:
+            return {"name": name, "value": value, "stderr": None, "units": units,
+                    "reason": f"{p} ended at a bound of its fit ({q['lo']:g}..{q['hi']:g})"}
+        if not (math.isfinite(q["stderr"]) and q["stderr"] > 0):
+            return {"name": name, "value": value, "stderr": None, "units": units,
+                    "reason": f"the data do not constrain {p}"}
+    g = []
+    for p in paths:
+        h = rel * max(abs(x[p]), 1e-12)
+        up, dn = dict(x), dict(x)
+        up[p] += h
+        dn[p] -= h
+        g.append((fn(up) - fn(dn)) / (2.0 * h))
+    g = np.array(g)
+    return {"name": name, "value": value, "stderr": float(math.sqrt(max(g @ _covariance(fit, paths) @ g, 0.0))),
+            "units": units}
+
+
+def _buildings(data):
+    return {b["name"]: b for b in data.get("building", [])}
+
+
+def _list(v, n):
+    return [float(x) for x in v] if isinstance(v, list) else [float(v)] * n
+
+
+def _floors(b):
+    m = b["floor_masses"]
+    return len(m) if isinstance(m, list) else int(b.get("floors", 1))
+
+
+def _soil(fit, data):
+    from ..foundation import Footing, Soil
+    from ..foundation.model import cone_impedances
+
+    out = []
+    for name, b in _buildings(data).items():
+        path = f"building.{name}.foundation.soil.shear_wave_velocity"
+        if path not in fit.parameters:
+            continue
+        n = _floors(b)
+        masses, stiff = _list(b["floor_masses"], n), _list(b["storey_stiffness"], n)
+        heights = _list(b.get("storey_heights", 3.0), n)
+        fd = b["foundation"]
+
+        def period(x, fd=fd, masses=masses, stiff=stiff, heights=heights, path=path):
+            soil = Soil(x[path], fd["soil"]["density"], fd["soil"]["poisson"])
+            imp = cone_impedances(soil, Footing(width=fd["footing"]["width"], length=fd["footing"]["length"]))
+            return flexible_base_period(masses, stiff, heights, imp["sway_stiffness"], imp["rocking_stiffness"],
+                                        fd["mass"], fd["rotary_inertia"])
+
+        out.append(_delta(fit, f"{name}: soil shear-wave velocity", "m/s", lambda x, p=path: x[p], [path]))
+        fixed = flexible_base_period(masses, stiff, heights, 1e30, 1e30, 1.0, 1.0)
+        q = _delta(fit, f"{name}: first-mode period on the foundation (fixed base {fixed:.3f} s)", "s", period,
+                   [path])
+        out.append(q)
+    share = "building.*.foundation.soil.radiation"
+    if share in fit.parameters:
+        out.append(_delta(fit, "share of the half-space's radiation damping", "-", lambda x: x[share], [share]))
+    return out
+
+
+def _rods(fit, data):
+    out = []
+    for name, b in _buildings(data).items():
+        path = f"building.{name}.floor_model.axial_stiffness"
+        if path not in fit.parameters:
+            continue
+        rod = b["floor_model"]
+        m = _list(b["floor_masses"], _floors(b))[0]
+        ea_over_l = lambda x, p=path, rod=rod: x[p] / float(rod["length"])  # noqa: E731 (axial stiffness EA [N])
+        out.append(_delta(fit, f"{name}: first axial frequency of a floor", "Hz",
+                          lambda x, f=ea_over_l, rod=rod, m=m: _first_axial(m, f(x), int(rod["segments"])), [path]))
+    damp = "building.*.floor_model.axial_damping"
+    if damp in fit.parameters:
+        out.append(_delta(fit, "axial damping ratio of the floors' first mode", "-", lambda x: x[damp], [damp]))
+    return out
+
+
+def _yielding(fit, data):
+    out = []
+    for path in fit.parameters:
+        if path.endswith("storey_law.yield_drift"):
+            out.append(_delta(fit, f"{path.split('.')[1]}: yield drift", "m", lambda x, p=path: x[p], [path]))
+    for key, what in (("post_yield_ratio", "post-yield stiffness ratio"), ("n", "Bouc-Wen exponent")):
+        path = f"building.*.storey_law.{key}"
+        if path in fit.parameters:
+            out.append(_delta(fit, what, "-", lambda x, p=path: x[p], [path]))
+    return out
+
+
+def _restitution(fit, data):
+    from ..contact.restitution import restitution_from
+
+    form = dict(data["contact"]["restitution"])
+    paths = [p for p in fit.parameters if p.startswith("contact.restitution.")]
+
+    def e_at(v):
+        def f(x):
+            table = dict(form)
+            for p in paths:
+                table[p.split(".")[-1]] = x[p]
+            return float(restitution_from(table, key="contact.restitution")(v))
+        return f
+
+    return [_delta(fit, f"e at an impact velocity of {v} m/s", "-", e_at(v), paths) for v in (0.1, 0.5)]
+
+
+def _delays(fit, data):
+    return [_delta(fit, f"{p.split('.')[1]}: delay of its ground motion", "s", lambda x, p=p: x[p], [p])
+            for p in fit.parameters if p.endswith("ground_motion.delay")]
+
+
+_QUANTITIES = {"soil-structure-interaction": _soil, "distributed-mass": _rods, "inelastic-storey": _yielding,
+               "velocity-dependent-restitution": _restitution, "spatially-varying-input": _delays}
+
+
+def quantities(name: str, fit) -> list[dict]:
+    """The physics ``name``'s quantities from its fit (a CalibrationResult): [{name, value, stderr, units}]."""
+    fn = _QUANTITIES.get(name)
+    if fn is None:
+        return []
+    try:
+        return fn(fit, tomllib.loads(fit.model_text))
+    except Exception as exc:  # noqa: BLE001 (a quantity that cannot be derived is reported, not fatal)
+        return [{"name": "quantities", "value": float("nan"), "stderr": None, "units": "",
+                 "reason": f"could not be derived ({type(exc).__name__}: {exc})"}]

@@ -4,7 +4,7 @@
    substeps; if the difference is not small against the misfit, the finer settings are used
    for everything after (a residual that shrinks with the step is numerics, not physics).
 2. The base model's own parameters recalibrated (storey stiffness factor and damping ratio
-   per building, gap sizes): if that explains the data to within EXPLAINED times the NE the
+   per building, gap sizes, the contact stiffness and a constant e): if that explains the data to within EXPLAINED times the NE the
    sensor noise leaves, no physics is missing and no hypothesis is tried, unless a building's
    residual shows the rocking signature (``signature.py``: its first two modes' bands ask for
    different storey-stiffness changes, which no storey factor can give); then soil-structure
@@ -138,6 +138,7 @@ def _recalibrate(data, params, base, chans, trial_list, max_evaluations, noise_n
         k, ratio, g = 2.0 ** (2 * u[0] - 1), 0.01 * 20.0 ** u[1], 2.0 ** (2 * u[2] - 1)
         starts = {p.path: (k if p.path.endswith("storey_stiffness") else ratio if p.path.endswith("ratio")
                            else g * float(get_value(data, p.path))) for p in params}
+        starts = {p.path: min(max(starts[p.path], p.lo), p.hi) for p in params}
         over = [(p.path, p.value_at(get_value(data, p.path), starts[p.path])) for p in params]
         sims = obs.simulate(over)
         rss = _sum_ne2(sims, recs)
@@ -265,7 +266,19 @@ def _base_specs(data) -> list:
             specs.append(f"building.{b['name']}.damping.ratio" + ("=0:0.3" if float(d["ratio"]) < 0.001 else ""))
     for i, _ in enumerate(data.get("gap", []), start=1):
         specs.append(f"gap.{i}.size")
+    contact = data.get("contact", {})
+    if data.get("gap") and isinstance(contact, dict):
+        # the contact's own constants are parameters a model can have wrong, not missing physics: a constant e
+        # off by 0.1 must not be named velocity-dependent restitution, a wrong stiffness not distributed mass
+        if _number(contact.get("stiffness")) and contact["stiffness"] > 0:
+            specs.append("contact.stiffness")
+        if _number(contact.get("restitution")) and 0.05 <= contact["restitution"] <= 0.99:
+            specs.append("contact.restitution")
     return specs
+
+
+def _number(x) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool)
 
 
 def diagnose(model, recordings=None, *, channels, trials=None, report=None, output=None, figure=None,

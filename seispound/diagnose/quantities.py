@@ -35,6 +35,7 @@ def flexible_base_period(masses, stiffness, heights, sway, rocking, m0, i0) -> f
     deformations' sum relative to the foundation, u0 its sway and theta its rocking; the mass matrix
     is T^T diag(m, m0, i0) T in (x, u0, theta) with the floors' rotary inertia neglected, the
     stiffness matrix blockdiag(K_shear, sway, rocking) [N/m, N m/rad]; masses [kg], heights [m].
+    An infinite ``sway`` or ``rocking`` removes that degree of freedom (a rigid base in it).
     """
     from scipy.linalg import eigh
 
@@ -51,7 +52,8 @@ def flexible_base_period(masses, stiffness, heights, sway, rocking, m0, i0) -> f
     K = np.zeros((n + 2, n + 2))
     K[:n, :n] = shear_stiffness_matrix(np.asarray(stiffness, float))
     K[n, n], K[n + 1, n + 1] = sway, rocking
-    w2 = eigh(K, M, eigvals_only=True)
+    keep = list(range(n)) + [n + j for j, k in enumerate((sway, rocking)) if math.isfinite(k)]  # inf: rigid
+    w2 = eigh(K[np.ix_(keep, keep)], M[np.ix_(keep, keep)], eigvals_only=True)
     return 2.0 * math.pi / math.sqrt(w2[0])
 
 
@@ -137,7 +139,7 @@ def _soil(fit, data):
                                         fd["mass"], fd["rotary_inertia"])
 
         out.append(_delta(fit, f"{name}: soil shear-wave velocity", "m/s", lambda x, p=path: x[p], [path]))
-        fixed = flexible_base_period(masses, stiff, heights, 1e30, 1e30, 1.0, 1.0)
+        fixed = flexible_base_period(masses, stiff, heights, math.inf, math.inf, 1.0, 1.0)
         q = _delta(fit, f"{name}: first-mode period on the foundation (fixed base {fixed:.3f} s)", "s", period,
                    [path])
         out.append(q)

@@ -36,13 +36,14 @@ from ..contact.codes import P_EXPONENT, P_K, P_MEFF, P_TENSION
 ST_ZETA, ST_E = 0, 1
 # state columns: BILINEAR (plastic deformation [m], hysteretic force [N])
 ST_PLASTIC, ST_Q = 0, 1
-# state columns: BOUC_WEN (hysteretic displacement z [m], the committed deformation [m])
-ST_Z, ST_DELTA = 0, 1
+# state columns: BOUC_WEN (hysteretic displacement z [m], the committed deformation [m], the hysteretic
+# energy measure eps = integral of z d(delta) / dy^2 [-] that degradation grows with)
+ST_Z, ST_DELTA, ST_EPS = 0, 1, 2
 N_STATE = 3
 
 # codes of history-carrying laws (beyond the contact codes, which stay below 20) and their parameter columns
 from ..storey.codes import (B_ALPHA, B_FY, B_K, BILINEAR, BOUC_WEN, BW_ALPHA, BW_BETA,  # noqa: E402, F401
-                            BW_DY, BW_GAMMA, BW_K, BW_N)
+                            BW_DETA, BW_DNU, BW_DY, BW_GAMMA, BW_K, BW_N)
 # a Bouc-Wen trial integrates z over sub-increments of at most this fraction of dy (trapezoidal rule each)
 BW_SUBINCREMENT = 0.02
 BW_MAX_SUB = 256
@@ -91,20 +92,21 @@ def material_trial(code, par, committed, trial, delta, rate):
 
 
 @njit(cache=True)
-def _bouc_wen_phi(z, d, dy, n, beta, gamma):
+def _bouc_wen_phi(z, d, dy, n, beta, gamma, nu, eta):
     """dz/d(delta) of the Bouc-Wen model with A = 1 and its derivative in z, for a step of sign d.
 
-    Phi = 1 - |z/dy|^n (beta sgn(d z) + gamma) (Wen 1976, J. Eng. Mech. Div.
-    102(2) 249-263, Eq. 2 divided by d(delta)/dt: the model is rate independent).
+    Phi = (1 - nu |z/dy|^n (beta sgn(d z) + gamma)) / eta (Wen 1976, J. Eng. Mech. Div.
+    102(2) 249-263, Eq. 2 divided by d(delta)/dt: the model is rate independent; nu and eta,
+    1 without degradation, are Baber & Wen's (1981) strength and stiffness degradation factors).
     """
     s = 1.0 if d * z >= 0.0 else -1.0
     c = beta * s + gamma
     x = abs(z) / dy
     if x == 0.0:
-        return 1.0, 0.0
+        return 1.0 / eta, 0.0
     xn1 = x ** (n - 1.0)
-    phi = 1.0 - xn1 * x * c
-    dphi = -n * xn1 * c / dy * (1.0 if z > 0.0 else -1.0)
+    phi = (1.0 - nu * xn1 * x * c) / eta
+    dphi = -nu * n * xn1 * c / dy * (1.0 if z > 0.0 else -1.0) / eta
     return phi, dphi
 
 
@@ -119,6 +121,14 @@ def _bouc_wen_trial(par, committed, trial, delta):
     z1 = z0 + d/2 (Phi(z0) + Phi(z1)), solved by Newton; the tangent is the
     exact derivative of that map (chain rule over the sub-increments), so
     the driver's Newton converges quadratically.
+
+    Degradation (Baber & Wen 1981, J. Eng. Mech. Div. 107(6) 1069-1087, Eqs. 5-6):
+    nu = 1 + delta_nu eps and eta = 1 + delta_eta eps grow with the hysteretic
+    energy measure eps = integral of z d(delta) / dy^2 (Baber & Wen's integral of
+    z u' dt, made dimensionless by dy^2 here).  They are held at their values at
+    the start of each sub-increment, eps advanced by the trapezoidal rule after
+    it; the tangent leaves out eps's own dependence on the step (a first-order
+    term of one sub-increment), so with degradation Newton converges linearly.
     """
     k = par[BW_K]
     dy = par[BW_DY]
@@ -126,27 +136,34 @@ def _bouc_wen_trial(par, committed, trial, delta):
     n = par[BW_N]
     beta = par[BW_BETA]
     gamma = par[BW_GAMMA]
+    dnu = par[BW_DNU]
+    deta = par[BW_DETA]
     total = delta - committed[ST_DELTA]
     n_sub = min(BW_MAX_SUB, 1 + int(abs(total) / (BW_SUBINCREMENT * dy)))
     d = total / n_sub
     z = committed[ST_Z]
+    eps = committed[ST_EPS]
     dz = 0.0  # dz/d(total)
     for _ in range(n_sub):
-        phi0, dphi0 = _bouc_wen_phi(z, d, dy, n, beta, gamma)
+        nu = 1.0 + dnu * eps
+        eta = 1.0 + deta * eps
+        phi0, dphi0 = _bouc_wen_phi(z, d, dy, n, beta, gamma, nu, eta)
         z1 = z + d * phi0
         for _ in range(50):
-            phi1, dphi1 = _bouc_wen_phi(z1, d, dy, n, beta, gamma)
+            phi1, dphi1 = _bouc_wen_phi(z1, d, dy, n, beta, gamma, nu, eta)
             g = z1 - z - 0.5 * d * (phi0 + phi1)
             dg = 1.0 - 0.5 * d * dphi1
             step = g / dg
             z1 -= step
             if abs(step) <= 1e-15 * dy:
                 break
-        phi1, dphi1 = _bouc_wen_phi(z1, d, dy, n, beta, gamma)
+        phi1, dphi1 = _bouc_wen_phi(z1, d, dy, n, beta, gamma, nu, eta)
         dz = (dz * (1.0 + 0.5 * d * dphi0) + 0.5 * (phi0 + phi1) / n_sub) / (1.0 - 0.5 * d * dphi1)
+        eps += 0.5 * (z + z1) * d / (dy * dy)
         z = z1
     trial[ST_Z] = z
     trial[ST_DELTA] = delta
+    trial[ST_EPS] = eps
     return alpha * k * delta + (1.0 - alpha) * k * z, alpha * k + (1.0 - alpha) * k * dz, 0.0
 
 
@@ -155,8 +172,10 @@ def material_energy(code, par, state, delta):
     """Recoverable energy [J] of a storey law in ``state`` at deformation ``delta`` [m] (0 for contact laws).
 
     BILINEAR: alpha k delta^2 / 2 + (1 - alpha) q^2 / (2 k); BOUC_WEN:
-    alpha k delta^2 / 2 + (1 - alpha) k z^2 / 2 (the elastic energy of the
-    linear and hysteretic springs in parallel; what the law absorbed beyond
+    alpha k delta^2 / 2 + (1 - alpha) k eta z^2 / 2 (the elastic energy of the
+    linear and hysteretic springs in parallel: an unloading hysteretic spring
+    follows dz/d(delta) = 1 / eta, so releasing z returns (1 - alpha) k eta z^2 / 2,
+    derived here; eta = 1 without degradation; what the law absorbed beyond
     it is dissipated).
     """
     if code == BILINEAR:
@@ -164,7 +183,8 @@ def material_energy(code, par, state, delta):
         return 0.5 * par[B_ALPHA] * k * delta * delta + 0.5 * (1.0 - par[B_ALPHA]) * state[ST_Q] ** 2 / k
     if code == BOUC_WEN:
         k = par[BW_K]
-        return 0.5 * par[BW_ALPHA] * k * delta * delta + 0.5 * (1.0 - par[BW_ALPHA]) * k * state[ST_Z] ** 2
+        eta = 1.0 + par[BW_DETA] * state[ST_EPS]
+        return 0.5 * par[BW_ALPHA] * k * delta * delta + 0.5 * (1.0 - par[BW_ALPHA]) * k * eta * state[ST_Z] ** 2
     return 0.0
 
 

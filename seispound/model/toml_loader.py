@@ -35,7 +35,8 @@ _FOUNDATION = {"mass", "rotary_inertia", "floor_rotary_inertia", "sway_stiffness
 _SOIL = {"shear_wave_velocity", "density", "poisson", "radiation"}
 _SOIL_REQUIRED = {"shear_wave_velocity", "density", "poisson"}
 _FOOTING = {"width", "length", "radius"}
-_STOREY_LAW = {"kind", "yield_drift", "yield_force", "post_yield_ratio", "n", "beta", "gamma"}
+_STOREY_LAW = {"kind", "yield_drift", "yield_force", "post_yield_ratio", "n", "beta", "gamma", "strength_degradation",
+               "stiffness_degradation"}
 _VARIANT = {"delay", "lowpass", "lowpass_order"}
 _DAMPING = {"kind", "ratio", "modes"}
 _LAW_KEYS = {"law", "stiffness", "restitution", "tension", "damping_constant", "exponent"}

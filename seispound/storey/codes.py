@@ -11,8 +11,9 @@ BOUC_WEN = 21  # smooth hysteresis (Bouc 1967, Wen 1976)
 
 # parameter columns of BILINEAR: initial stiffness k [N/m], yield force fy [N], post-yield ratio alpha [-]
 B_K, B_FY, B_ALPHA = 0, 1, 2
-# parameter columns of BOUC_WEN: k [N/m], yield deformation dy [m], alpha [-], exponent n, beta, gamma [-]
-BW_K, BW_DY, BW_ALPHA, BW_N, BW_BETA, BW_GAMMA = 0, 1, 2, 3, 4, 5
-N_STOREY_PAR = 6
+# parameter columns of BOUC_WEN: k [N/m], yield deformation dy [m], alpha [-], exponent n, beta, gamma [-],
+# and the degradation rates of strength (delta_nu) and stiffness (delta_eta) with the hysteretic energy [-]
+BW_K, BW_DY, BW_ALPHA, BW_N, BW_BETA, BW_GAMMA, BW_DNU, BW_DETA = 0, 1, 2, 3, 4, 5, 6, 7
+N_STOREY_PAR = 8
 
 NAMES = {"elastic": LINEAR, "bilinear": BILINEAR, "bouc-wen": BOUC_WEN}

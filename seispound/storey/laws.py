@@ -40,6 +40,11 @@ class StoreyLaw:
     beta, gamma : float
         Bouc-Wen shape parameters (beta + gamma > 0; with beta + gamma = 1,
         z is bounded by dy and the hysteretic force by (1 - alpha) k dy).
+    strength_degradation, stiffness_degradation : float, [-]
+        Bouc-Wen only: Baber & Wen's (1981) delta_nu and delta_eta (>= 0, default 0:
+        no degradation); strength and stiffness degrade as nu = 1 + delta_nu eps,
+        eta = 1 + delta_eta eps with the hysteretic energy eps = integral of z
+        d(drift) / dy^2 (about 4 mu per full cycle at ductility mu).
     """
 
     kind: str = "elastic"
@@ -49,6 +54,8 @@ class StoreyLaw:
     n: float | None = None
     beta: float = 0.5
     gamma: float = 0.5
+    strength_degradation: float = 0.0
+    stiffness_degradation: float = 0.0
 
     @property
     def code(self) -> int:
@@ -86,6 +93,12 @@ class StoreyLaw:
             if not self.beta + self.gamma > 0.0:
                 raise InputError(f"beta + gamma must be > 0 (a bounded z), got {self.beta + self.gamma:g}",
                                  key=f"{key}.gamma")
+        for f in ("strength_degradation", "stiffness_degradation"):
+            v = getattr(self, f)
+            if not (isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v >= 0.0):
+                raise InputError(f"must be a finite number >= 0, got {v!r}", key=f"{key}.{f}")
+            if v and self.kind != "bouc-wen":
+                raise InputError("degradation is a Bouc-Wen storey's (Baber & Wen 1981)", key=f"{key}.{f}")
 
     def _per_storey(self, field, n_storeys, key, positive=False) -> np.ndarray:
         arr = number_array(getattr(self, field), f"{key}.{field}")
@@ -117,4 +130,5 @@ class StoreyLaw:
         else:
             par[:, C.BW_K], par[:, C.BW_DY], par[:, C.BW_ALPHA] = k, dy, alpha
             par[:, C.BW_N], par[:, C.BW_BETA], par[:, C.BW_GAMMA] = self.n, self.beta, self.gamma
+            par[:, C.BW_DNU], par[:, C.BW_DETA] = self.strength_degradation, self.stiffness_degradation
         return codes, par

@@ -120,6 +120,77 @@ def _spatial(d):
     return specs, null
 
 
+def _exponential_restitution(d):
+    # e falls from e0 at slow impacts to e_inf at fast ones over a velocity scale v_c (null: e0 = e_inf = e)
+    e = _constant_e(d)
+    d["contact"]["restitution"] = {"form": "exponential", "e0": e, "e_inf": e, "v_c": 0.3}
+    return (["contact.restitution.e0=0.1:0.99", "contact.restitution.e_inf=0.05:0.99",
+             "contact.restitution.v_c=0.02:2"],
+            {"contact.restitution.e0": e, "contact.restitution.e_inf": e, "contact.restitution.v_c": 0.3})
+
+
+def _power_restitution(d):
+    # e = e_ref (v / 0.3 m/s)^-exponent, capped at 0.99 (null: exponent 0); Johnson's plastic impact gives 1/4
+    e = _constant_e(d)
+    d["contact"]["restitution"] = {"form": "power", "e_ref": e, "v_ref": 0.3, "exponent": 0.0, "max": 0.99}
+    return (["contact.restitution.e_ref=0.05:0.99", "contact.restitution.exponent=0:1.5"],
+            {"contact.restitution.e_ref": e, "contact.restitution.exponent": 0.0})
+
+
+def _constant_e(d):
+    e = d["contact"].get("restitution", 0.65)
+    return float(e) if isinstance(e, (int, float)) else 0.65
+
+
+def _soil_sized(d):
+    # each building's own soil and footing: Vs and the footing's width fitted per building, so that sway and
+    # rocking (rocking ~ width^3, sway ~ width) are two quantities the data set, not a ratio assumed; a light
+    # foundation (1 % of the building's mass); the radiation share one value for the row
+    specs = ["building.*.foundation.soil.radiation=0.01:1"]
+    null = {"building.*.foundation.soil.radiation": 1.0}
+    for b in d["building"]:
+        m = b["floor_masses"]
+        total = float(sum(m)) if isinstance(m, list) else float(m) * int(b.get("floors", 1))
+        b["foundation"] = {"mass": 0.01 * total, "rotary_inertia": 0.01 * total * 15.0 ** 2 / 12.0,
+                           "soil": {"shear_wave_velocity": 3000.0, "density": 1900.0, "poisson": 0.3,
+                                    "radiation": 1.0},
+                           "footing": {"width": 15.0, "length": 15.0}}
+        specs += [f"building.{b['name']}.foundation.soil.shear_wave_velocity=30:3000",
+                  f"building.{b['name']}.foundation.footing.width=3:60"]
+        null[f"building.{b['name']}.foundation.soil.shear_wave_velocity"] = 3000.0
+        null[f"building.{b['name']}.foundation.footing.width"] = 15.0
+    return specs, null
+
+
+def _degrading(d):
+    # smooth hysteresis whose strength and stiffness degrade with the energy it dissipates (Baber & Wen 1981):
+    # a yield drift per building; post-yield ratio, exponent and the two degradation rates one value for the row
+    specs = ["building.*.storey_law.post_yield_ratio=0.005:0.5", "building.*.storey_law.n=1:20",
+             "building.*.storey_law.strength_degradation=0:0.2", "building.*.storey_law.stiffness_degradation=0:0.2"]
+    null = {"building.*.storey_law.post_yield_ratio": 0.05, "building.*.storey_law.n": 2.0,
+            "building.*.storey_law.strength_degradation": 0.0, "building.*.storey_law.stiffness_degradation": 0.0}
+    for b in d["building"]:
+        b["storey_law"] = {"kind": "bouc-wen", "yield_drift": 0.02, "post_yield_ratio": 0.05, "n": 2.0,
+                           "beta": 0.5, "gamma": 0.5, "strength_degradation": 0.0, "stiffness_degradation": 0.0}
+        specs.append(f"building.{b['name']}.storey_law.yield_drift=0.0005:5")
+        null[f"building.{b['name']}.storey_law.yield_drift"] = 5.0
+    return specs, null
+
+
+def _spatial_filtered(d):
+    # the others' motion delayed and low-passed (a wave that loses its high frequencies on the way; the
+    # incoherence of a wide foundation); null: no delay, a cut-off far above the structure's band
+    nyquist = 0.5 / float(d.get("analysis", {}).get("dt", 0.005))
+    specs, null = [], {}
+    for b in d["building"][1:]:
+        b["ground_motion"] = {"delay": 0.0, "lowpass": 0.8 * nyquist, "lowpass_order": 2}
+        specs += [f"building.{b['name']}.ground_motion.delay=0:0.3",
+                  f"building.{b['name']}.ground_motion.lowpass=0.5:{0.8 * nyquist:g}"]
+        null[f"building.{b['name']}.ground_motion.delay"] = 0.0
+        null[f"building.{b['name']}.ground_motion.lowpass"] = 0.8 * nyquist
+    return specs, null
+
+
 def _needs_gaps(what):
     return lambda d: None if d.get("gap") else f"the model has no gap element, so no impact {what}"
 
@@ -138,9 +209,10 @@ _APPLIES = {"velocity-dependent-restitution": _needs_gaps("whose restitution cou
             "distributed-mass": _needs_gaps("to set the floors' axial waves ringing"), "inelastic-storey": _needs_storeys,
             "soil-structure-interaction": _needs_storeys}
 
-_AUGMENT = {"distributed-mass": [_distributed_mass], "velocity-dependent-restitution": [_velocity_restitution],
-            "soil-structure-interaction": [_soil], "inelastic-storey": [_bouc_wen, _bilinear],
-            "spatially-varying-input": [_spatial]}
+_AUGMENT = {"distributed-mass": [_distributed_mass],
+            "velocity-dependent-restitution": [_velocity_restitution, _exponential_restitution, _power_restitution],
+            "soil-structure-interaction": [_soil, _soil_sized], "inelastic-storey": [_bouc_wen, _bilinear, _degrading],
+            "spatially-varying-input": [_spatial, _spatial_filtered]}
 
 HYPOTHESES = {
     "distributed-mass": Hypothesis(

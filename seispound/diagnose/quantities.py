@@ -8,14 +8,15 @@ identified, with the reason, never with a standard error of zero.
 
 Quantities (units in each entry):
 
-* soil-structure-interaction: each building's soil shear-wave velocity and first-mode period on
-  its foundation (beside the fixed-base one), the share of the half-space's radiation damping;
+* soil-structure-interaction: each building's soil shear-wave velocity (and footing width where
+  fitted) and first-mode period on its foundation (beside the fixed-base one), the share of the
+  half-space's radiation damping;
 * distributed-mass: each building's first free-free axial frequency of a floor (the lumped chain
   of the rod floor as modelled), the axial damping ratio;
 * inelastic-storey: each building's yield drift, the post-yield stiffness ratio (and Bouc-Wen's
   exponent);
 * velocity-dependent-restitution: e at impact velocities of 0.1 and 0.5 m/s;
-* spatially-varying-input: each building's delay.
+* spatially-varying-input: each building's delay (and low-pass corner).
 """
 
 from __future__ import annotations
@@ -132,17 +133,23 @@ def _soil(fit, data):
         heights = _list(b.get("storey_heights", 3.0), n)
         fd = b["foundation"]
 
-        def period(x, fd=fd, masses=masses, stiff=stiff, heights=heights, path=path):
+        width = f"building.{name}.foundation.footing.width"
+        paths = [path] + ([width] if width in fit.parameters else [])
+
+        def period(x, fd=fd, masses=masses, stiff=stiff, heights=heights, path=path, width=width):
             soil = Soil(x[path], fd["soil"]["density"], fd["soil"]["poisson"])
-            imp = cone_impedances(soil, Footing(width=fd["footing"]["width"], length=fd["footing"]["length"]))
+            w = x.get(width, fd["footing"]["width"])
+            size = (w, w) if width in x else (fd["footing"]["width"], fd["footing"]["length"])
+            imp = cone_impedances(soil, Footing(width=size[0], length=size[1]))
             return flexible_base_period(masses, stiff, heights, imp["sway_stiffness"], imp["rocking_stiffness"],
                                         fd["mass"], fd["rotary_inertia"])
 
         out.append(_delta(fit, f"{name}: soil shear-wave velocity", "m/s", lambda x, p=path: x[p], [path]))
+        if width in fit.parameters:
+            out.append(_delta(fit, f"{name}: footing width", "m", lambda x, p=width: x[p], [width]))
         fixed = flexible_base_period(masses, stiff, heights, math.inf, math.inf, 1.0, 1.0)
-        q = _delta(fit, f"{name}: first-mode period on the foundation (fixed base {fixed:.3f} s)", "s", period,
-                   [path])
-        out.append(q)
+        out.append(_delta(fit, f"{name}: first-mode period on the foundation (fixed base {fixed:.3f} s)", "s",
+                          period, paths))
     share = "building.*.foundation.soil.radiation"
     if share in fit.parameters:
         out.append(_delta(fit, "share of the half-space's radiation damping", "-", lambda x: x[share], [share]))
@@ -171,7 +178,9 @@ def _yielding(fit, data):
     for path in fit.parameters:
         if path.endswith("storey_law.yield_drift"):
             out.append(_delta(fit, f"{path.split('.')[1]}: yield drift", "m", lambda x, p=path: x[p], [path]))
-    for key, what in (("post_yield_ratio", "post-yield stiffness ratio"), ("n", "Bouc-Wen exponent")):
+    for key, what in (("post_yield_ratio", "post-yield stiffness ratio"), ("n", "Bouc-Wen exponent"),
+                      ("strength_degradation", "strength degradation rate delta_nu (Baber & Wen)"),
+                      ("stiffness_degradation", "stiffness degradation rate delta_eta (Baber & Wen)")):
         path = f"building.*.storey_law.{key}"
         if path in fit.parameters:
             out.append(_delta(fit, what, "-", lambda x, p=path: x[p], [path]))
@@ -196,8 +205,10 @@ def _restitution(fit, data):
 
 
 def _delays(fit, data):
-    return [_delta(fit, f"{p.split('.')[1]}: delay of its ground motion", "s", lambda x, p=p: x[p], [p])
-            for p in fit.parameters if p.endswith("ground_motion.delay")]
+    out = [_delta(fit, f"{p.split('.')[1]}: delay of its ground motion", "s", lambda x, p=p: x[p], [p])
+           for p in fit.parameters if p.endswith("ground_motion.delay")]
+    return out + [_delta(fit, f"{p.split('.')[1]}: low-pass corner of its ground motion", "Hz", lambda x, p=p: x[p],
+                         [p]) for p in fit.parameters if p.endswith("ground_motion.lowpass")]
 
 
 _QUANTITIES = {"soil-structure-interaction": _soil, "distributed-mass": _rods, "inelastic-storey": _yielding,

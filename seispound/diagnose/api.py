@@ -91,8 +91,8 @@ class Diagnosis:
         lines.append(f"  numerics: NE between the model's settings and half the step {n['ne']:.2g} "
                      f"({'sufficient' if n['sufficient'] else 'refined for the rest'})")
         for item in self.left_out:
-            lines.append(f"  left out: {item['physics']} ({item['share']:.0%} of the improvement): "
-                         f"{item['evidence']}")
+            lines.append(f"  left out: {item['physics']} ({item['share']:.0%} of the improvement, probability "
+                         f"{item['probability']:.2f} among the models fitted): {item['evidence']}")
             for q in item.get("quantities", []):
                 lines.append(f"    {q['name']}: {_interval(q)}")
         if self.instrument_fault:
@@ -396,6 +396,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     tried.update(entries)
     steps = []
     if accepted:
+        accepted[0].probability = _posterior(entries, accepted[0].name)
         first_step = accepted[0]
         if first_step.fit.ne_mean_after > EXPLAINED * noise_ne:
             # the physics was fitted with the base parameters at their nominal values: fitted again with them,
@@ -416,6 +417,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
             for name, entry in entries.items():
                 tried.setdefault(name, {})["on_top_of_" + first_step.name] = entry
             if more:
+                more[0].probability = _posterior(entries, more[0].name)
                 steps.append(more[0])
     left_out = _left_out(steps, base_fit, n_eff, signature)
     final = steps[-1].fit if steps else base_fit
@@ -469,6 +471,7 @@ SHORT, POLISH = 10, 60  # Gauss-Newton iterations per short fit and for the fina
 TOLERANCE = 1e-4  # least_squares' ftol and gtol
 COST_ORDER = ("inelastic-storey", "distributed-mass", "soil-structure-interaction", "spatially-varying-input",
               "velocity-dependent-restitution")  # the slowest simulations first: they set the parallel phase's length
+WITHIN = 1.5  # forms whose short fit is within this factor of the best short fit are polished too
 STEP = 1e-3  # finite-difference step, a fraction of each parameter's (log-)range (calibrate_observer)
 
 
@@ -480,9 +483,10 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
     each started as soon as what it needs is done, so that the slow forms spread over the workers:
     its starts (``_starts``: the null point and the best Sobol points), a short fit from each
     (``_short``), and, if the best short fit beats the recalibrated base's ``ne_base``, a polish
-    (``_polish``).  When no form's short fits beat it, the closest form is polished anyway: only
-    an unexplained base gets here, and ten iterations from the null point or a scan point may
-    not reach a minimum that is far away.  A hypothesis keeps its best form.
+    (``_polish``).  Once every short fit is in, every form within WITHIN of the best short fit
+    is polished too (at least the closest): ten iterations from the null point or a scan point
+    may not reach a minimum that is far away, so a ranking of short fits must not drop a form
+    that can still win.  A hypothesis keeps its best form.
     """
     import heapq
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -529,15 +533,19 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
                         final[form] = (fit, specs)
                         if fit.ne_mean_after < ne_base:
                             polish(form)
-                        elif not polished and all(f in final for f in forms):
-                            # nothing got past the screen, yet the base is unexplained (or no hypothesis would be
-                            # tried): a short fit may have started far from its optimum, so the closest form is
-                            # polished all the same
-                            fitted = [f for f in forms if not isinstance(final[f], str)]
-                            if fitted:
-                                polish(min(fitted, key=lambda f: final[f][0].ne_mean_after))
                 elif out.ne_mean_after <= final[form][0].ne_mean_after:  # a polish that improved
                     final[form] = (out, final[form][1])
+                if all(f in final for f in forms) and not left.get("screened"):
+                    # every short fit is in: a short fit may have started far from its optimum, so every
+                    # form within WITHIN of the best short fit is polished too (none is dropped because
+                    # ten iterations ranked it below another), and the closest when none got past
+                    left["screened"] = True
+                    fitted = [f for f in forms if not isinstance(final[f], str)]
+                    if fitted:
+                        best = min(final[f][0].ne_mean_after for f in fitted)
+                        for f in fitted:
+                            if f not in polished and final[f][0].ne_mean_after <= WITHIN * best:
+                                polish(f)
             while queue and len(pending) < workers:  # the freed workers take the next tasks
                 _, _, t, g, args = heapq.heappop(queue)
                 pending[pool.submit(g, *args)] = t
@@ -656,6 +664,7 @@ class _Step:
     p: int
     gain: float = 0.0
     prev: "_Step | None" = None
+    probability: float = float("nan")  # that this physics is present, from the BIC weights of its round
 
 
 def _judge(outcomes, ref, n, n_eff, say, offset=0):
@@ -682,6 +691,16 @@ def _judge(outcomes, ref, n, n_eff, say, offset=0):
             accepted.append(_Step(name, fit, bic, offset + p, gain, ref))
     accepted.sort(key=lambda st: st.bic)
     return accepted, entries
+
+
+def _posterior(entries, name) -> float:
+    """P(the physics ``name`` is present) among the models of its round: the model it was added to and each
+    hypothesis fitted there, weighted exp(-BIC / 2) with equal priors (Schwarz 1978; Kass & Raftery 1995,
+    Sect. 4.1: BIC differences approximate twice the log Bayes factors)."""
+    d = {k: e["delta_bic"] for k, e in entries.items() if "delta_bic" in e}
+    lo = min([0.0] + list(d.values()))
+    w = {k: math.exp(-(v - lo) / 2.0) for k, v in d.items()}
+    return w[name] / (math.exp(lo / 2.0) + sum(w.values()))
 
 
 def _joint(step, base_params, base_fit, base, chans, trial_list, max_evaluations, n, n_eff, say):
@@ -721,7 +740,6 @@ def _left_out(steps, base_fit, n_eff, signature) -> list:
     for st in steps:
         hyp = HYPOTHESES[st.name]
         before = st.prev.fit.ne_mean_after
-        conf = 1.0 / (1.0 + math.exp(-(st.prev.bic - st.bic - BIC_MARGIN) / BIC_MARGIN))
         seen = ""
         if st.name == "soil-structure-interaction":
             seen = "".join(f"; {b}'s second-mode band asks {sig['dk'][1]:+.2%} on the storey stiffness, its first "
@@ -734,7 +752,7 @@ def _left_out(steps, base_fit, n_eff, signature) -> list:
                     f"criterion by {st.prev.bic - st.bic:.0f} (n_eff {n_eff:.0f}){seen}; expected signature: "
                     f"{hyp.signature}",
                     "share": (before - st.fit.ne_mean_after) / total if total > 0 else 1.0,
-                    "confidence": round(conf, 3), "quantities": quantities(st.name, st.fit)})
+                    "probability": round(st.probability, 4), "quantities": quantities(st.name, st.fit)})
     return out
 
 

@@ -28,16 +28,22 @@ EFFECTS = ("distributed-mass", "velocity-dependent-restitution", "soil-structure
 def run_case(folder: str, jobs: int | None = None) -> dict:
     """Diagnose one case folder as a user would; the report goes to ``folder/report.json``.
 
+    An impact test (``trials.toml`` in the folder) is diagnosed from its trials file.
     ``jobs``: diagnose's own processes (default: the machine's CPUs; 1 when cases run side by side)."""
     from seispound.diagnose import diagnose
 
     f = Path(folder)
     t0 = time.perf_counter()
-    d = diagnose(f / "model.toml", [f / "recording.mseed"], channels=f / "channels.toml", report=f / "report.json",
-                 output=f / "diagnosed.toml", progress=False, jobs=jobs)
+    trials = f / "trials.toml"
+    recordings = None if trials.exists() else [f / "recording.mseed"]
+    d = diagnose(f / "model.toml", recordings, channels=f / "channels.toml", trials=trials if trials.exists() else None,
+                 report=f / "report.json", output=f / "diagnosed.toml", progress=False, jobs=jobs)
     return {"named": [x["physics"] for x in d.left_out], "ne_before": d.ne_before, "ne_after": d.ne_after,
-            "seconds": time.perf_counter() - t0,
+            "seconds": time.perf_counter() - t0, "noise_ne": d.noise_ne,
             "hypotheses": {k: v.get("ne") for k, v in d.hypotheses.items()},
+            "probability": {x["physics"]: x.get("probability") for x in d.left_out},
+            "quantities": {x["physics"]: x.get("quantities", []) for x in d.left_out},
+            "fault": (d.instrument_fault or {}).get("channel"), "kept_as_given": d.kept_as_given,
             "recalibrated_ne": d.numerics.get("recalibrated_ne")}
 
 
@@ -102,7 +108,7 @@ def main(argv=None) -> int:
             results[c] = fut.result()
             out.write_text(json.dumps(results, indent=1))
             r = results[c]
-            print(f"[{i}/{len(todo)}] {c} {key[c]['family']}: named {r['named'] or 'nothing'}, NE "
+            print(f"[{i}/{len(todo)}] {c} {key[c].get('form', key[c]['family'])}: named {r['named'] or 'nothing'}, NE "
                   f"{r['ne_before']:.4f} -> {r['ne_after']:.4f} in {r['seconds']:.0f} s", flush=True)
     print(f"wall {time.perf_counter() - t0:.0f} s for {len(todo)} cases", flush=True)
     done = {c: results[c] for c in names if c in results}

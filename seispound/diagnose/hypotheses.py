@@ -58,6 +58,26 @@ def _distributed_mass(d):
     return specs, null
 
 
+def _attached(d):
+    # a pounding element on a compliant joint (a body bolted or cast on at the contact face): every floor a stiff
+    # two-node rod (EA 1e13 N over an assumed 20 m) carrying on each face toward a neighbour a body on a joint;
+    # the joint's stiffness fitted per building, the body's mass and the joint's damping one value for the row
+    # (null: a body of 0.01 % of the lightest floor on a joint as stiff as the rod)
+    floors = [m for b in d["building"] for m in (b["floor_masses"] if isinstance(b["floor_masses"], list)
+                                                 else [b["floor_masses"]])]
+    m_lo, m_hi = 1e-4 * min(floors), 0.1 * min(floors)
+    specs = [f"building.*.floor_model.attachment.mass={m_lo:g}:{m_hi:g}",
+             "building.*.floor_model.attachment.joint_damping=10:1e8"]
+    null = {"building.*.floor_model.attachment.mass": m_lo, "building.*.floor_model.attachment.joint_damping": 10.0}
+    for b in d["building"]:
+        b["floor_model"] = {"kind": "rod", "segments": 1, "length": 20.0, "axial_stiffness": 1e13,
+                            "axial_damping": 0.02,
+                            "attachment": {"mass": m_lo, "joint_stiffness": 1e12, "joint_damping": 10.0}}
+        specs.append(f"building.{b['name']}.floor_model.attachment.joint_stiffness=1e6:1e12")
+        null[f"building.{b['name']}.floor_model.attachment.joint_stiffness"] = 1e12
+    return specs, null
+
+
 def _velocity_restitution(d):
     e = d["contact"].get("restitution", 0.65)
     e = float(e) if isinstance(e, (int, float)) else 0.65
@@ -209,7 +229,7 @@ _APPLIES = {"velocity-dependent-restitution": _needs_gaps("whose restitution cou
             "distributed-mass": _needs_gaps("to set the floors' axial waves ringing"), "inelastic-storey": _needs_storeys,
             "soil-structure-interaction": _needs_storeys}
 
-_AUGMENT = {"distributed-mass": [_distributed_mass],
+_AUGMENT = {"distributed-mass": [_distributed_mass, _attached],
             "velocity-dependent-restitution": [_velocity_restitution, _exponential_restitution, _power_restitution],
             "soil-structure-interaction": [_soil, _soil_sized], "inelastic-storey": [_bouc_wen, _bilinear, _degrading],
             "spatially-varying-input": [_spatial, _spatial_filtered]}

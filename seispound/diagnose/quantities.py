@@ -12,7 +12,8 @@ Quantities (units in each entry):
   fitted) and first-mode period on its foundation (beside the fixed-base one), the share of the
   half-space's radiation damping;
 * distributed-mass: each building's first free-free axial frequency of a floor (the lumped chain
-  of the rod floor as modelled), the axial damping ratio;
+  of the rod floor as modelled), the axial damping ratio; or, for a body on a compliant joint,
+  the body's mass and its natural frequency on the joint;
 * inelastic-storey: each building's yield drift, the post-yield stiffness ratio (and Bouc-Wen's
   exponent);
 * velocity-dependent-restitution: e at impact velocities of 0.1 and 0.5 m/s;
@@ -167,6 +168,14 @@ def _rods(fit, data):
         ea_over_l = lambda x, p=path, rod=rod: x[p] / float(rod["length"])  # noqa: E731 (axial stiffness EA [N])
         out.append(_delta(fit, f"{name}: first axial frequency of a floor", "Hz",
                           lambda x, f=ea_over_l, rod=rod, m=m: _first_axial(m, f(x), int(rod["segments"])), [path]))
+    mass = "building.*.floor_model.attachment.mass"
+    for name in _buildings(data):
+        joint = f"building.{name}.floor_model.attachment.joint_stiffness"
+        if joint in fit.parameters and mass in fit.parameters:
+            out.append(_delta(fit, f"{name}: natural frequency of the body on its joint", "Hz",
+                              lambda x, j=joint: math.sqrt(x[j] / x[mass]) / (2.0 * math.pi), [joint, mass]))
+    if mass in fit.parameters:
+        out.append(_delta(fit, "mass of the body on the joint", "kg", lambda x: x[mass], [mass]))
     damp = "building.*.floor_model.axial_damping"
     if damp in fit.parameters:
         out.append(_delta(fit, "axial damping ratio of the floors' first mode", "-", lambda x: x[damp], [damp]))

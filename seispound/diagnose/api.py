@@ -804,6 +804,9 @@ def _verdict(ne, noise_ne, left_out, kept_as_given, fault, mismatch) -> str:
     ratio = ne / max(noise_ne, 1e-300)
     named = " and ".join(item["physics"] for item in left_out)
     base = f"with {named} added" if named else "with its own parameters recalibrated"
+    if ratio <= EXPLAINED and not named:
+        return (f"no physics is missing: the model's own parameters, recalibrated, explain the data (NE {ne:.4f}, "
+                f"{ratio:.2f} times what the sensor noise leaves); where they moved, they were wrong")
     if ratio <= EXPLAINED:
         return f"the model {base} explains the data: NE {ne:.4f}, {ratio:.2f} times what the sensor noise leaves"
     where = ""

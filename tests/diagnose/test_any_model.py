@@ -86,7 +86,7 @@ def test_single_building_leaves_out_what_cannot_apply(tmp_path):
     assert set(out) == {"velocity-dependent-restitution", "spatially-varying-input", "distributed-mass"}
     assert "no gap element" in out["velocity-dependent-restitution"] and "single building" in out[
         "spatially-varying-input"]
-    assert res.left_out == [] and "explains the data" in res.verdict
+    assert res.left_out == [] and "no physics is missing" in res.verdict
     assert res.ne_after <= 1.5 * res.noise_ne
 
 

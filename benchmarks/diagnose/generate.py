@@ -236,8 +236,19 @@ def write_case(folder: Path, family: str, seed: int, weak: bool = False, duratio
 
 
 def main(argv=None) -> int:
+    import sys
+
+    argv = sys.argv[1:] if argv is None else list(argv)
+    pre = argparse.ArgumentParser(add_help=False)
+    pre.add_argument("--suite", default="classic")
+    if pre.parse_known_args(argv)[0].suite == "outside":  # the held-out suite: suite.py (docs/diagnose_generator.md)
+        from .suite import main as outside_main
+
+        return outside_main(argv)
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("out")
+    ap.add_argument("--suite", default="classic", choices=("classic", "outside"),
+                    help="classic: the families above; outside: held-out forms (benchmarks/diagnose/suite.py)")
     ap.add_argument("--instances", type=int, default=2)
     ap.add_argument("--families", default=",".join(FAMILIES))
     ap.add_argument("--first", type=int, default=1, help="the first case's number")

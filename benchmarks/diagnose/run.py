@@ -52,7 +52,7 @@ def score(key: dict, results: dict) -> dict:
     effect = [c for c in results if key[c]["label"] != "none"]
     control = [c for c in results if key[c]["label"] == "none"]
     first = {c: (results[c]["named"] or ["none"])[0] for c in results}
-    right = sum(first[c] == key[c]["label"] for c in effect)
+    right = sum(first[c] in key[c].get("labels", [key[c]["label"]]) for c in effect)  # two-effect cases: either
     alarms = sum(first[c] != "none" for c in control)
     halved = sum(results[c]["ne_after"] <= 0.5 * results[c]["ne_before"] for c in effect)
     return {"effect_cases": len(effect), "right_first": right, "control_cases": len(control), "false_alarms": alarms,

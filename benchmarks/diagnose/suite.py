@@ -518,7 +518,7 @@ def write_impact_case(folder, form, seed, weak=False):
     if form == "impact-chain":
         p = int(rng.choice([6, 9]))
         w, prof = chain_weights(rng, p)
-        f1 = rng.uniform(1500.0, 3500.0) / math.sqrt(s)
+        f1 = rng.uniform(400.0, 1200.0) / math.sqrt(s)
         zeta1 = rng.uniform(0.01, 0.05)
         for b in row.buildings:
             b.chain = {"nodes": p, "weights": w, "k_link": 1.0, "beta_link": 0.0}

@@ -239,7 +239,7 @@ def _pair(A, i, j, k):
         A[j, i] -= k
 
 
-def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False):
+def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False, method="auto"):
     """Integrate ``row`` under ground accelerations ``ag`` [nb x len(t_ag)] (one row per building; a single
     row is used for all); outputs at ``t_eval``.
 
@@ -374,13 +374,16 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False)
             log["impacts"] += 1
             log["v_in"].append(float(r0[p]))
             log["t_in"].append(0.0)
+    # LSODA (with the analytic Jacobian) on small systems; on large ones (chains of many nodes) its dense
+    # internals cost ~9 ms a step, and the row is not stiff at steps of max_step: RK45 there
+    meth = method if method != "auto" else ("LSODA" if N <= 160 or nh else "RK45")
     t, t_end = float(t_eval[0]), float(t_eval[-1])
     out = np.full((len(t_eval), N), np.nan)
     states = [None] * len(t_eval)
     done = np.zeros(len(t_eval), bool)
     while t < t_end - 1e-12 * max(1.0, t_end):
-        sol = solve_ivp(rhs, (t, t_end), y, method="LSODA", rtol=rtol, atol=atol, max_step=max_step,
-                        jac=jac,
+        sol = solve_ivp(rhs, (t, t_end), y, method=meth, rtol=rtol, atol=atol, max_step=max_step,
+                        **({"jac": jac} if meth == "LSODA" else {}),
                         events=make_events() or None, dense_output=True)
         if sol.status < 0:
             raise RuntimeError(sol.message)

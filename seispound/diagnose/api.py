@@ -728,7 +728,8 @@ def _joint(step, base_params, base_fit, base, chans, trial_list, max_evaluations
         return step
     bic = n_eff * math.log(max(_rss(fit), 1e-300) / n) + len(params) * math.log(n_eff)
     say(f"{step.name} with the base parameters: NE {fit.ne_mean_after:.4f}")
-    return _Step(step.name, fit, bic, len(params), 1.0 - fit.ne_mean_after / step.prev.fit.ne_mean_after, step.prev)
+    return _Step(step.name, fit, bic, len(params), 1.0 - fit.ne_mean_after / step.prev.fit.ne_mean_after, step.prev,
+                 step.probability)
 
 
 def _left_out(steps, base_fit, n_eff, signature) -> list:

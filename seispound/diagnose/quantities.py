@@ -3,8 +3,9 @@
 Each quantity is a function of the fitted parameters; its standard error comes from the fit's
 covariance (the calibration's sandwich, ``calibrate.fit``) by the delta method, with central
 differences of the function (sigma_q^2 = g^T C g, g = dq/dx).  A quantity whose parameters
-sit at a bound of the fit, or whose standard error is zero or not finite, is reported as not
-identified, with the reason, never with a standard error of zero.
+sit at a bound of the fit, or whose standard error is zero, not finite or over half its value
+(a 95 % interval that would reach zero), is reported as not identified, with the reason, never
+with a standard error of zero.
 
 Quantities (units in each entry):
 
@@ -28,6 +29,8 @@ import tomllib
 import numpy as np
 
 __all__ = ["quantities", "flexible_base_period"]
+
+UNDETERMINED = 0.5  # a standard error above this fraction of the value: the quantity is reported as undetermined
 
 
 def flexible_base_period(masses, stiffness, heights, sway, rocking, m0, i0) -> float:
@@ -103,8 +106,11 @@ def _delta(fit, name, units, fn, paths, rel=1e-4) -> dict:
         dn[p] -= h
         g.append((fn(up) - fn(dn)) / (2.0 * h))
     g = np.array(g)
-    return {"name": name, "value": value, "stderr": float(math.sqrt(max(g @ _covariance(fit, paths) @ g, 0.0))),
-            "units": units}
+    sd = float(math.sqrt(max(g @ _covariance(fit, paths) @ g, 0.0)))
+    if sd > UNDETERMINED * abs(value):
+        return {"name": name, "value": value, "stderr": None, "units": units,
+                "reason": f"the data do not determine it (standard error {sd:.2g} {units}, over half its value)"}
+    return {"name": name, "value": value, "stderr": sd, "units": units}
 
 
 def _buildings(data):

@@ -54,3 +54,5 @@ def test_delta_method_and_not_identified():
     assert q["stderr"] is None and "bound" in q["reason"]
     q = _delta(_fit(2.0, 0.0), "a", "-", lambda x: x["a"], ["a"])
     assert q["stderr"] is None and "do not constrain" in q["reason"]
+    q = _delta(_fit(2.0, 1.2), "a", "-", lambda x: x["a"], ["a"])  # an interval that reaches zero
+    assert q["stderr"] is None and "do not determine" in q["reason"]

@@ -333,38 +333,46 @@ def _ne(a, b):
     return float(np.linalg.norm(a - b) / max(np.linalg.norm(a), 1e-30))
 
 
-def write_case(folder, form, seed, weak=False, duration=20.0):
-    """One case of the outside suite into ``folder``; returns its key entry (with the seconds it took)."""
+def write_case(folder, form, seed, weak=False, duration=20.0, search=True):
+    """One case of the outside suite into ``folder``; returns its key entry (with the seconds it took).
+
+    ``weak``: an effect scaled down, by the strength whose effect NE over 8 s is nearest 3.5 % (``search``)
+    or by the strength drawn (0.3-0.5, without ``search``)."""
     import time
 
     t0 = time.perf_counter()
     family = FORMS[form][0]
     key = write_impact_case(folder, form, seed, weak) if family == "impact" else _write_case(folder, form, seed, weak,
-                                                                                              duration)
+                                                                                              duration, search)
     key["generator_seconds"] = round(time.perf_counter() - t0, 1)
     return key
 
 
-def _write_case(folder, form, seed, weak, duration):
-    import obspy
+EFFECT_FAMILIES = ("distributed-mass", "soil-structure-interaction", "inelastic-storey", "velocity-dependent-restitution",
+                   "spatially-varying-input", "two-effects")
+
+
+def _setup(form, seed, weak, duration, s_override=None):
+    """The case's draws, in a fixed order from ``seed`` (the strength only scales, so ``s_override`` changes
+    nothing else): the rng (to draw on from), strength, rate, record, the generating row and its inputs, the
+    base model's edit, the base model's e."""
+    from types import SimpleNamespace
 
     family, labels = FORMS[form]
     rng = np.random.default_rng(seed)
     s = float(rng.uniform(0.3, 0.5) if weak else rng.uniform(0.7, 1.0))
-    if family in ("control",) or form == "noise-only":
+    if family == "control":
         s = float(rng.uniform(0.5, 1.0))
+    if s_override is not None:
+        s = float(s_override)
     fs = int(rng.choice(RATES))
-    dt = 1.0 / fs
     t_ag, ag = record(rng, duration)
     row = base_row(rng)
-    info = {}
+    info, edit = {}, {}
     law_e = row.restitution
-    edit, ctrl = {}, {}
-    parts = form.split("+") if family == "two-effects" else [form]
     ag_rows = ag[None, :]
-    if family in ("distributed-mass", "soil-structure-interaction", "inelastic-storey", "velocity-dependent-restitution",
-                  "spatially-varying-input", "two-effects"):
-        for part in parts:
+    if family in EFFECT_FAMILIES:
+        for part in (form.split("+") if family == "two-effects" else [form]):
             apply_form(part, row, rng, s, info)
         if "svi" in row.extra:
             par = draw_svi(rng, s, row.extra["svi"]["lowpass"])
@@ -373,12 +381,53 @@ def _write_case(folder, form, seed, weak, duration):
     elif family == "control":
         edit, ctrl = control_edit(form, row, rng, s)
         info.setdefault("quantities", {})["control"] = ctrl
-    base_e = row.extra.get("base_e", law_e)
-    t = np.arange(round(duration / dt) + 1) * dt
-    res = simulate(row, t_ag, ag_rows, t, max_step=min(1e-3, dt))
-    # the effect-free truth (effects), or the base model as written (controls): its NE against the recording
-    ref_row = _reference_row(row, family, edit, base_e)
-    ref = simulate(ref_row, t_ag, ag, t, max_step=min(1e-3, dt)) if family != "instrument-fault" else None
+    return SimpleNamespace(family=family, labels=labels, rng=rng, s=s, fs=fs, dt=1.0 / fs, t_ag=t_ag, ag=ag, row=row,
+                           ag_rows=ag_rows, info=info, edit=edit, law_e=law_e,
+                           base_e=row.extra.get("base_e", law_e))
+
+
+def _run_pair(c, duration):
+    """The recording's row and the reference row (without the effect, or the base model's) simulated."""
+    t = np.arange(round(duration / c.dt) + 1) * c.dt
+    res = simulate(c.row, c.t_ag, c.ag_rows, t, max_step=min(1e-3, c.dt))
+    ref = None
+    if c.family != "instrument-fault":
+        ref = simulate(_reference_row(c.row, c.family, c.edit, c.base_e), c.t_ag, c.ag, t, max_step=min(1e-3, c.dt))
+    return t, res, ref
+
+
+def _pair_ne(res, ref):
+    return float(np.mean([_ne(res[q][k], ref[q][k]) for q in ("acc", "roof") for k in res[q]]))
+
+
+def weak_strength(form, seed, duration, target=0.035, lo=0.02, hi=0.05):
+    """A weak instance's strength: the one whose effect NE over the first 8 s is nearest ``target`` (a secant
+    search on log NE against log strength, at most 5 runs, from 0.3), as the classic generator does."""
+    d = min(8.0, duration)
+    tried, s = [], 0.3
+    for _ in range(5):
+        c = _setup(form, seed, True, d, s_override=s)
+        ne = max(_pair_ne(*_run_pair(c, d)[1:]), 1e-6)
+        tried.append((abs(math.log(ne / target)), s, ne))
+        if lo <= ne <= hi:
+            break
+        slope = 1.0
+        if len(tried) > 1:
+            (_, s0, n0), (_, s1, n1) = tried[-2], tried[-1]
+            slope = math.log(n1 / n0) / math.log(s1 / s0) if s1 != s0 and n1 != n0 else 1.0
+            slope = slope if slope > 0.2 else 1.0
+        s = float(np.clip(s * (target / ne) ** (1.0 / slope), 1e-3, 1.0))
+    return min(tried)[1]
+
+
+def _write_case(folder, form, seed, weak, duration, search=True):
+    import obspy
+
+    s_weak = weak_strength(form, seed, duration) if (weak and search and FORMS[form][0] in EFFECT_FAMILIES) else None
+    c = _setup(form, seed, weak, duration, s_override=s_weak)
+    family, labels, rng, s, fs, dt = c.family, c.labels, c.rng, c.s, c.fs, c.dt
+    row, info, edit, law_e, base_e, t_ag, ag = c.row, c.info, c.edit, c.law_e, c.base_e, c.t_ag, c.ag
+    t, res, ref = _run_pair(c, duration)
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     nrng = np.random.default_rng(seed + 7)
@@ -408,7 +457,7 @@ def _write_case(folder, form, seed, weak, duration):
     if family == "instrument-fault":
         effect_ne = float(np.mean([_ne(cl, d) for cl, d in zip(clean, data)]))
     else:
-        effect_ne = float(np.mean([_ne(res[q][k], ref[q][k]) for q in ("acc", "roof") for k in res[q]]))
+        effect_ne = _pair_ne(res, ref)
     return _key(form, family, labels, seed, s, effect_ne, res, fs, duration, row, info, chans, law_e, base_e)
 
 
@@ -603,6 +652,8 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=2026)
     ap.add_argument("--duration", type=float, default=20.0, help="seconds of record (earthquake cases)")
     ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--no-search", action="store_true",
+                    help="weak instances at their drawn strength (0.3-0.5), without the search for a 3.5 %% effect NE")
     args = ap.parse_args(argv)
     forms = [f for f in args.forms.split(",") if f]
     bad = [f for f in forms if f not in FORMS]
@@ -621,12 +672,12 @@ def main(argv=None) -> int:
 
     if args.jobs <= 1:
         for name, form, seed, weak in tasks:
-            done(name, write_case(out / name, form, seed, weak, args.duration))
+            done(name, write_case(out / name, form, seed, weak, args.duration, not args.no_search))
     else:
         from concurrent.futures import ProcessPoolExecutor, as_completed
 
         with ProcessPoolExecutor(max_workers=args.jobs) as pool:
-            futs = {pool.submit(write_case, out / name, form, seed, weak, args.duration): name
+            futs = {pool.submit(write_case, out / name, form, seed, weak, args.duration, not args.no_search): name
                     for name, form, seed, weak in tasks}
             for fut in as_completed(futs):
                 done(futs[fut], fut.result())

@@ -21,9 +21,10 @@ proportion to their tributary lengths.  Attachments (bolted elements): a node of
 joint spring and dashpot at a floor's contact face; contact acts on it.
 
 **Contact.**  Hd (F = k d^1.5 + zeta d^1.5 d', clipped at zero), zeta from the approach velocity
-v0 at each onset for e = e(v0), from (1 + e) = x ln((x + 1)/(x - e)), x = k / (zeta v0) (seed
+v0 (at least ``V0_FLOOR`` = 1 mm/s) at each onset for e = e(v0), from (1 + e) = x ln((x + 1)/(x - e)), x = k / (zeta v0) (seed
 Eq. 8), solved here by ``toms748``.  Onsets and separations are terminal events of ``solve_ivp``
-(LSODA, rtol 1e-8, steps of at most ``max_step``).
+(rtol 1e-8, steps of at most ``max_step``; LSODA on small elastic rows, RK45 on large or hysteretic
+ones, see ``simulate``).
 
 Outputs at the requested times: floor sensors' absolute accelerations (mid-length of a chain, by
 linear interpolation between nodes), roof displacements relative to the free field, each
@@ -374,9 +375,11 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False,
             log["impacts"] += 1
             log["v_in"].append(float(r0[p]))
             log["t_in"].append(0.0)
-    # LSODA (with the analytic Jacobian) on small systems; on large ones (chains of many nodes) its dense
-    # internals cost ~9 ms a step, and the row is not stiff at steps of max_step: RK45 there
-    meth = method if method != "auto" else ("LSODA" if N <= 160 or nh else "RK45")
+    # LSODA (with the analytic Jacobian) on small elastic systems; RK45 on large ones (chains of many nodes:
+    # LSODA's dense internals cost ~9 ms a step, and the row is not stiff at steps of max_step; within 3e-6)
+    # and on hysteretic ones (LSODA stalled at 1e-10 s steps at the kinks of a Takeda storey's force rate;
+    # RK45 within 1e-5 of LSODA where both finish)
+    meth = method if method != "auto" else ("LSODA" if N <= 160 and not nh else "RK45")
     t, t_end = float(t_eval[0]), float(t_eval[-1])
     out = np.full((len(t_eval), N), np.nan)
     states = [None] * len(t_eval)

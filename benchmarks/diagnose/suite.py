@@ -402,10 +402,11 @@ def _pair_ne(res, ref):
 
 def weak_strength(form, seed, duration, target=0.035, lo=0.02, hi=0.05):
     """A weak instance's strength: the one whose effect NE over the first 8 s is nearest ``target`` (a secant
-    search on log NE against log strength, at most 5 runs, from 0.3), as the classic generator does."""
+    search on log NE against log strength, at most 7 runs, from 0.3, as the classic generator does; once the
+    target is bracketed, a secant step outside the bracket is replaced by the bracket's geometric mean)."""
     d = min(8.0, duration)
     tried, s = [], 0.3
-    for _ in range(5):
+    for _ in range(7):
         c = _setup(form, seed, True, d, s_override=s)
         ne = max(_pair_ne(*_run_pair(c, d)[1:]), 1e-6)
         tried.append((abs(math.log(ne / target)), s, ne))
@@ -417,6 +418,12 @@ def weak_strength(form, seed, duration, target=0.035, lo=0.02, hi=0.05):
             slope = math.log(n1 / n0) / math.log(s1 / s0) if s1 != s0 and n1 != n0 else 1.0
             slope = slope if slope > 0.2 else 1.0
         s = float(np.clip(s * (target / ne) ** (1.0 / slope), 1e-3, 1.0))
+        below = [x for _, x, n in tried if n < target]
+        above = [x for _, x, n in tried if n > target]
+        if below and above:  # a threshold (a storey that starts to yield): bisect in log s within the bracket
+            a, b = max(below), min(above)
+            if not min(a, b) < s < max(a, b):
+                s = math.sqrt(a * b)
     return min(tried)[1]
 
 

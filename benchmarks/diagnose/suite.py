@@ -639,12 +639,14 @@ def write_impact_case(folder, form, seed, weak=False):
 
 
 # ------------------------------------------------------------------------------------------------ main
-def tasks_for(forms, instances, seed):
-    """(case name, form, seed, weak) with the case numbers shuffled: the folder number says nothing."""
+def tasks_for(forms, instances, seed, controls=None):
+    """(case name, form, seed, weak) with the case numbers shuffled: the folder number says nothing.
+
+    ``controls``: instances of each control form (default ``instances``)."""
     rng = np.random.default_rng(seed)
     tasks = []
     for form in forms:
-        for i in range(instances):
+        for i in range(controls if (controls is not None and FORMS[form][0] == "control") else instances):
             tasks.append((form, int(rng.integers(1 << 30)), i % 2 == 1))
     order = rng.permutation(len(tasks))
     return [(f"case-{k + 1:03d}", *tasks[j]) for k, j in enumerate(order)]
@@ -656,6 +658,8 @@ def main(argv=None) -> int:
     ap.add_argument("--suite", default="outside")
     ap.add_argument("--instances", type=int, default=2, help="instances of every form")
     ap.add_argument("--forms", default=",".join(FORMS), help="comma-separated forms (default: all)")
+    ap.add_argument("--controls", type=int, default=None,
+                    help="instances of each of the 8 control forms (default --instances; 5 gives 40 controls)")
     ap.add_argument("--seed", type=int, default=2026)
     ap.add_argument("--duration", type=float, default=20.0, help="seconds of record (earthquake cases)")
     ap.add_argument("--jobs", type=int, default=1)
@@ -668,7 +672,7 @@ def main(argv=None) -> int:
         ap.error(f"unknown forms {bad}; known: {', '.join(FORMS)}")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    tasks = tasks_for(forms, args.instances, args.seed)
+    tasks = tasks_for(forms, args.instances, args.seed, args.controls)
     keys = {}
 
     def done(name, key):

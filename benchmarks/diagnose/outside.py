@@ -18,7 +18,7 @@ storeys' initial stiffness).  Floors: one node, or a chain of ``nodes`` nodes wi
 (``chain["weights"]``, any shape), equal links of stiffness ``k_link`` and stiffness-proportional
 link dashpots ``beta_link * k_link``; the storey spring below a floor is shared by its nodes in
 proportion to their tributary lengths.  Attachments (bolted elements): a node of mass ``m`` on a
-joint spring and dashpot at a floor's contact face; contact acts on it.
+joint spring and dashpot at a floor's contact face, its mass taken from the floor's; contact acts on it.
 
 **Contact.**  Hd (F = k d^1.5 + zeta d^1.5 d', clipped at zero), zeta from the approach velocity
 v0 (at least ``V0_FLOOR`` = 1 mm/s) at each onset for e = e(v0), from (1 + e) = x ln((x + 1)/(x - e)), x = k / (zeta v0) (seed
@@ -118,11 +118,15 @@ class Assembly:
             blk = {"floors": [], "att": [], "z": [], "fnd": None, "cells": []}
             z = np.cumsum(b.heights)
             for f in range(b.n):
+                # an attachment's mass is part of the floor's (the floor keeps the rest): with a rigid joint the
+                # floor is the lumped one
+                n_att = sum(1 for side in (0, 1) if b.attachment and faces[bi][side])
+                mf = b.masses[f] - (n_att * b.attachment["mass"] if n_att else 0.0)
                 if b.chain:
                     w = np.asarray(b.chain["weights"], float)
-                    nodes = [new(b.masses[f] * wi / w.sum()) for wi in w]
+                    nodes = [new(mf * wi / w.sum()) for wi in w]
                 else:
-                    nodes = [new(b.masses[f])]
+                    nodes = [new(mf)]
                 blk["floors"].append(nodes)
                 att = [None, None]
                 for side in (0, 1):
@@ -435,6 +439,7 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False,
         res["roof"][b.name] = out[:, :n] @ A.sensor[(b.name, b.n)]
         res["base"][b.name] = gr[:, bi] + (acc_all[:, blk["fnd"][0]] if blk["fnd"] else 0.0)
     if nh:
+        res["storey_force"] = out[:, sf]  # every hysteretic storey's force (columns in Assembly.hyst order)
         drift = out[:, :n] @ Dh.T
         for bi, b in enumerate(row.buildings):
             cols = [h for h, (hb, _f) in enumerate(A.hyst) if hb == bi]

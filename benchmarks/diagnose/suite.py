@@ -105,9 +105,10 @@ def varied_inputs(rng, ag, dt, xs, par):
         noise = np.fft.irfft(np.abs(A0) * np.exp(1j * rng.uniform(0, 2 * np.pi, w.size)), nf)[:n] * env
         Nb = np.fft.rfft(noise, nf)
         Nb *= np.abs(A0) / np.maximum(np.abs(Nb), 1e-30)
-        ab = np.fft.irfft(gam * A0 * np.exp(-1j * w * tau) + np.sqrt(1 - gam ** 2) * Nb, nf)[:n]
-        if x > 0:
-            ab *= taper  # the noise's share would otherwise start mid-shaking
+        # the noise's share tapered like the record (it would otherwise start mid-shaking); the coherent share is
+        # the tapered record delayed, so that the motion tends to A's as the strength tends to zero
+        ab = np.fft.irfft(gam * A0 * np.exp(-1j * w * tau), nf)[:n] + \
+            np.fft.irfft(np.sqrt(1 - gam ** 2) * Nb, nf)[:n] * taper
         if par["fc"] and par["fc"] < 0.45 / dt:
             ab = sosfiltfilt(butter(2, par["fc"], fs=1.0 / dt, output="sos"), ab)
         out.append(ab)

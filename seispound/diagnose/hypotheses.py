@@ -95,15 +95,20 @@ def _soil(d):
     specs = ["building.*.foundation.soil.radiation=0.01:1"]
     null = {"building.*.foundation.soil.radiation": 1.0}
     for b in d["building"]:
-        m = b["floor_masses"]
-        total = float(sum(m)) if isinstance(m, list) else float(m) * int(b.get("floors", 1))
-        b["foundation"] = {"mass": 0.2 * total, "rotary_inertia": 0.2 * total * 15.0 ** 2 / 12.0,
-                           "soil": {"shear_wave_velocity": 200.0, "density": 1900.0, "poisson": 0.3,
-                                    "radiation": 1.0},
-                           "footing": {"width": 15.0, "length": 15.0}}
+        _footing(b, 0.2, 200.0)
         specs.append(f"building.{b['name']}.foundation.soil.shear_wave_velocity=30:3000")
         null[f"building.{b['name']}.foundation.soil.shear_wave_velocity"] = 3000.0
     return specs, null
+
+
+def _footing(b, share, vs):
+    """A rigid 15 m x 15 m footing (assumed) under building table ``b``: its mass and rotary inertia ``share`` of
+    the building's, soil of shear-wave velocity ``vs`` [m/s], density 1900 kg/m^3, Poisson 0.3."""
+    m = b["floor_masses"]
+    total = float(sum(m)) if isinstance(m, list) else float(m) * int(b.get("floors", 1))
+    b["foundation"] = {"mass": share * total, "rotary_inertia": share * total * 15.0 ** 2 / 12.0,
+                       "soil": {"shear_wave_velocity": vs, "density": 1900.0, "poisson": 0.3, "radiation": 1.0},
+                       "footing": {"width": 15.0, "length": 15.0}}
 
 
 def _bilinear(d):
@@ -169,12 +174,7 @@ def _soil_sized(d):
     specs = ["building.*.foundation.soil.radiation=0.01:1"]
     null = {"building.*.foundation.soil.radiation": 1.0}
     for b in d["building"]:
-        m = b["floor_masses"]
-        total = float(sum(m)) if isinstance(m, list) else float(m) * int(b.get("floors", 1))
-        b["foundation"] = {"mass": 0.01 * total, "rotary_inertia": 0.01 * total * 15.0 ** 2 / 12.0,
-                           "soil": {"shear_wave_velocity": 3000.0, "density": 1900.0, "poisson": 0.3,
-                                    "radiation": 1.0},
-                           "footing": {"width": 15.0, "length": 15.0}}
+        _footing(b, 0.01, 3000.0)
         specs += [f"building.{b['name']}.foundation.soil.shear_wave_velocity=30:3000",
                   f"building.{b['name']}.foundation.footing.width=3:60"]
         null[f"building.{b['name']}.foundation.soil.shear_wave_velocity"] = 3000.0

@@ -454,7 +454,9 @@ def linear_periods(row: Row, building: int, fixed_base=False):
     """The first-mode period [s] of one building, linearised (initial stiffness, open gaps).
 
     With its foundation and soil cells: from the complex eigenvalues of the damped state matrix
-    (the lowest underdamped pair, 2 pi / Im); ``fixed_base``: the superstructure alone."""
+    (2 pi / Im of the lowest underdamped pair whose mass-weighted amplitude lies mostly on the
+    floors: a soil cell's own low mode is not the building's); ``fixed_base``: the superstructure
+    alone."""
     b = row.buildings[building]
     import copy
 
@@ -469,9 +471,14 @@ def linear_periods(row: Row, building: int, fixed_base=False):
     S[:n, n:] = np.eye(n)
     S[n:, :n] = -A.K / A.mass[:, None]
     S[n:, n:] = -A.C / A.mass[:, None]
-    lam = np.linalg.eigvals(S)
-    lam = lam[np.abs(lam.imag) > 1e-6]
-    return float(2 * math.pi / np.min(np.abs(lam.imag)))
+    lam, vec = np.linalg.eig(S)
+    # the building's mode, not a soil cell's: the floors (and attachments), created first, carry most of the
+    # mode's mass-weighted amplitude (the soil model's own cells ring on their own at low frequency too)
+    n_struct = n - (2 + len(bb.soil["cells"]) if bb.soil else 0)
+    w = A.mass[:, None] * np.abs(vec[:n]) ** 2
+    share = w[:n_struct].sum(axis=0) / np.maximum(w.sum(axis=0), 1e-300)
+    ok = (np.abs(lam.imag) > 1e-6) & (share >= 0.5)
+    return float(2 * math.pi / np.min(np.abs(lam.imag[ok])))
 
 
 def first_axial_hz(b: Bldg, floor: int = 0):

@@ -25,6 +25,7 @@ from __future__ import annotations
 import copy
 import math
 import os
+import tomllib
 import sys
 import time
 from dataclasses import dataclass, field
@@ -340,8 +341,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     say(f"numerics: NE against half the step {ne_num:.2g} ({'sufficient' if sufficient else 'refined'})")
     # 2. the base model recalibrated
     base_params = parse_fit(_base_specs(data), data)
-    noise_ne = float(np.mean([noise_sigma(t.recording.data[c.id]) * math.sqrt(t.recording.npts)
-                              / max(np.linalg.norm(t.recording.data[c.id]), 1e-300) for t in trial_list for c in chans]))
+    noise_ne = float(np.mean([_noise_ne(t, c.id) for t in trial_list for c in chans]))
     base_fit = _recalibrate(data, base_params, base, chans, trial_list, max_evaluations, noise_ne)
     recal = tomllib.loads(base_fit.model_text)
     n, n_eff = base_fit.n, base_fit.n_eff
@@ -505,6 +505,7 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
             pending[pool.submit(g, *args) if pool else _Done(g(*args))] = t
 
     final, shorts, left, polished = {}, {form: [] for form in forms}, {}, set()
+    screened = False  # every short fit is in and the forms near the best were sent to be polished
     count = iter(range(1 << 30))
 
     def polish(form):
@@ -535,11 +536,11 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
                             polish(form)
                 elif out.ne_mean_after <= final[form][0].ne_mean_after:  # a polish that improved
                     final[form] = (out, final[form][1])
-                if all(f in final for f in forms) and not left.get("screened"):
+                if all(f in final for f in forms) and not screened:
                     # every short fit is in: a short fit may have started far from its optimum, so every
                     # form within WITHIN of the best short fit is polished too (none is dropped because
                     # ten iterations ranked it below another), and the closest when none got past
-                    left["screened"] = True
+                    screened = True
                     fitted = [f for f in forms if not isinstance(final[f], str)]
                     if fitted:
                         best = min(final[f][0].ne_mean_after for f in fitted)
@@ -712,7 +713,7 @@ def _joint(step, base_params, base_fit, base, chans, trial_list, max_evaluations
     from ..calibrate.fit import calibrate_observer, parse_fit
     from ..calibrate.observe import Observer
     try:
-        data = __import__("tomllib").loads(step.fit.model_text)  # the base values nominal: its NE is the start's
+        data = tomllib.loads(step.fit.model_text)  # the base values nominal: its NE is the start's
         specs = [f"{q}={v['lo']!r}:{v['hi']!r}" for q, v in step.fit.parameters.items()]
         specs += [f"{p.path}={p.lo!r}:{p.hi!r}" for p in base_params]
         params = parse_fit(specs, data)
@@ -776,9 +777,7 @@ def _instrument_fault(data, base_params, base, chans, trial_list, max_evaluation
     worst = max(rss, key=rss.get)
     if rss[worst] < FAULT_SHARE * sum(rss.values()):
         return None
-    noise = {c.id: float(np.mean([noise_sigma(t.recording.data[c.id]) * math.sqrt(t.recording.npts)
-                                  / max(np.linalg.norm(t.recording.data[c.id]), 1e-300) for t in trial_list]))
-             for c in chans}
+    noise = {c.id: float(np.mean([_noise_ne(t, c.id) for t in trial_list])) for c in chans}
     fitted = [o[0] for _, o in outcomes if not isinstance(o, str)]
     best_any = min([float(np.mean([f.ne_after[t.name][worst] for t in trial_list])) for f in fitted + [final]])
     if best_any <= FAULT_RATIO * noise[worst]:
@@ -789,7 +788,7 @@ def _instrument_fault(data, base_params, base, chans, trial_list, max_evaluation
     fit = _recalibrate(data, base_params, base, others, trial_list, max_evaluations,
                        float(np.mean([noise[c.id] for c in others])))
     noise_others = float(np.mean([noise[c.id] for c in others]))
-    sims = Observer(__import__("tomllib").loads(fit.model_text), base, chans, trial_list).simulate([])
+    sims = Observer(tomllib.loads(fit.model_text), base, chans, trial_list).simulate([])
     ne_worst = float(np.mean([normalised_errors(s, {worst: t.recording.data[worst]})[worst]
                               for s, t in zip(sims, trial_list)]))
     if fit.ne_mean_after > EXPLAINED * noise_others or ne_worst <= FAULT_RATIO * noise[worst]:
@@ -798,6 +797,12 @@ def _instrument_fault(data, base_params, base, chans, trial_list, max_evaluation
             "reason": f"NE {ne_worst:.3f} against its noise's {noise[worst]:.4f} under every model tried, while "
                       f"the other channels fit to {fit.ne_mean_after / noise_others:.2f} times their noise",
             "fit": fit}
+
+
+def _noise_ne(trial, cid) -> float:
+    """The NE that the sensor noise alone leaves on channel ``cid`` of ``trial`` (locate.noise_sigma)."""
+    x = trial.recording.data[cid]
+    return noise_sigma(x) * math.sqrt(trial.recording.npts) / max(np.linalg.norm(x), 1e-300)
 
 
 def _verdict(ne, noise_ne, left_out, kept_as_given, fault, mismatch) -> str:

@@ -15,7 +15,7 @@ from __future__ import annotations
 import copy
 from dataclasses import dataclass
 
-__all__ = ["HYPOTHESES", "Hypothesis"]
+__all__ = ["ALTERNATIVES", "HYPOTHESES", "Hypothesis"]
 
 
 @dataclass(frozen=True)
@@ -211,6 +211,24 @@ def _spatial_filtered(d):
     return specs, null
 
 
+def _stiffness_profile(d):
+    # the storeys' stiffness distributed otherwise over the height than modelled (a soft first storey, a taper):
+    # the first and the top storey's stiffness of every building of two or more storeys fitted on their own,
+    # over a factor of 4 either way, while the building's stiffness factor scales the rest
+    specs, null = [], {}
+    for b in d["building"]:
+        if not isinstance(b["storey_stiffness"], list) and int(b.get("floors", 1)) >= 2:
+            b["storey_stiffness"] = [b["storey_stiffness"]] * int(b["floors"])  # one value for every storey
+        k = b["storey_stiffness"]
+        if not isinstance(k, list) or len(k) < 2:
+            continue
+        for j in (1, len(k)):
+            path = f"building.{b['name']}.storey_stiffness.{j}"
+            specs.append(f"{path}={0.25 * k[j - 1]!r}:{4.0 * k[j - 1]!r}")
+            null[path] = k[j - 1]
+    return specs, null
+
+
 def _needs_gaps(what):
     return lambda d: None if d.get("gap") else f"the model has no gap element, so no impact {what}"
 
@@ -224,7 +242,14 @@ def _needs_storeys(d):
     return None if d.get("building") else "the model has no building"
 
 
-_APPLIES = {"velocity-dependent-restitution": _needs_gaps("whose restitution could vary"),
+def _needs_profile(d):
+    multi = [b for b in d.get("building", []) if int(b.get("floors", 1)) >= 2 or
+             (isinstance(b.get("storey_stiffness"), list) and len(b["storey_stiffness"]) >= 2)]
+    return None if multi else "no building has two or more storeys whose stiffness could be distributed otherwise"
+
+
+_APPLIES = {"stiffness-distribution": _needs_profile,
+            "velocity-dependent-restitution": _needs_gaps("whose restitution could vary"),
             "spatially-varying-input": _needs_two,
             "distributed-mass": _needs_gaps("to set the floors' axial waves ringing"), "inelastic-storey": _needs_storeys,
             "soil-structure-interaction": _needs_storeys}
@@ -232,7 +257,8 @@ _APPLIES = {"velocity-dependent-restitution": _needs_gaps("whose restitution cou
 _AUGMENT = {"distributed-mass": [_distributed_mass, _attached],
             "velocity-dependent-restitution": [_velocity_restitution, _exponential_restitution, _power_restitution],
             "soil-structure-interaction": [_soil, _soil_sized], "inelastic-storey": [_bouc_wen, _bilinear, _degrading],
-            "spatially-varying-input": [_spatial, _spatial_filtered]}
+            "spatially-varying-input": [_spatial, _spatial_filtered],
+            "stiffness-distribution": [_stiffness_profile]}
 
 HYPOTHESES = {
     "distributed-mass": Hypothesis(
@@ -251,4 +277,13 @@ HYPOTHESES = {
     "spatially-varying-input": Hypothesis(
         "spatially-varying-input", "a different ground motion under a building (wave passage)",
         "a building's floor channels out of phase with the model from the start, the free-field building right"),
+}
+
+# wrong parameters beyond what recalibration spans: fitted beside the physics so that a model whose parameters
+# are wrong in a way a factor cannot fix is not mistaken for missing physics (a soft first storey is a sway
+# spring under the base to within its radiation damping)
+ALTERNATIVES = {
+    "stiffness-distribution": Hypothesis(
+        "stiffness-distribution", "the storeys' stiffness distributed otherwise over the height than modelled",
+        "a building's modes off in ratio to one another, which one stiffness factor cannot set right"),
 }

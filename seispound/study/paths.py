@@ -3,7 +3,8 @@
 A path walks the TOML tables of a model file.  Arrays of tables are indexed
 1-based (``gap.1.size``), buildings also by name (``building.A.storey_stiffness``),
 gaps also by the names of the buildings they join (``gap.A|B.size``, either order),
-and ``*`` stands for every entry (``gap.*.size``: all gaps at once).
+``*`` stands for every entry (``gap.*.size``: all gaps at once), and a final number picks one
+entry of a list of numbers, 1-based (``building.A.storey_stiffness.1``: the first storey's).
 Examples: ``contact.law``, ``contact.restitution``, ``ground_motion.scale``,
 ``analysis.dt``, ``building.B.damping.ratio``.
 """
@@ -34,6 +35,8 @@ def resolve(data: dict, path: str) -> list[tuple[dict, str]]:
     i = 0
     while i < len(parts) - 1:
         part = parts[i]
+        if i == len(parts) - 2 and parts[-1].isdigit() and _numbers(tables[0].get(part)):
+            return [_element(t[part], int(parts[-1]), path) for t in tables]  # one entry of a list of numbers
         if isinstance(tables[0].get(part), list):  # an array of tables: the next part picks entries
             if part not in _ARRAYS:
                 raise InputError(f"{part!r} is not a table that a study can vary", key=path)
@@ -52,6 +55,18 @@ def resolve(data: dict, path: str) -> list[tuple[dict, str]]:
         tables = nxt
         i += 1
     return [(t, parts[-1]) for t in tables]
+
+
+def _numbers(value) -> bool:
+    return isinstance(value, list) and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+
+
+def _element(values: list, k: int, path: str) -> tuple[list, int]:
+    """(the list, its 0-based index) for entry ``k`` (1-based) of a list of numbers: the storey_stiffness.1 of a
+    soft first storey."""
+    if not 1 <= k <= len(values):
+        raise InputError(f"the list has {len(values)} entries (1-based index)", key=path)
+    return values, k - 1
 
 
 def _entries(items: list, sel: str, part: str, path: str) -> list[dict]:

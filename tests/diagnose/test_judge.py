@@ -1,0 +1,61 @@
+"""The acceptance rule of a round of hypotheses, on fits made up to sit either side of its thresholds.
+
+A physics is accepted when its information criterion beats the model it was added to by
+BIC_MARGIN and its NE by NE_GAIN, and only if it also beats by BIC_MARGIN the best fit of
+wrong parameters beyond what recalibration spans (a soft first storey against a sway spring).
+"""
+
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+from seispound.diagnose.api import BIC_MARGIN, _base_specs, _judge, _Step
+
+N = N_EFF = 1000
+
+
+def _fit(ne):
+    # one trial, one channel: the residual sum of squares is ne^2
+    return SimpleNamespace(ne_mean_after=ne, ne_after={"t": {"c": ne}}, evaluations=1, parameters={})
+
+
+def _bic(ne, p):
+    return N_EFF * math.log(ne * ne / N) + p * math.log(N_EFF)
+
+
+def _round(outcomes):
+    ref = _Step(None, _fit(0.10), _bic(0.10, 4), 4)
+    return _judge([(name, (_fit(ne), p, True)) for name, ne, p in outcomes], ref, N, N_EFF, lambda m: None,
+                  offset=4)
+
+
+def test_physics_that_beats_the_base_is_accepted_and_one_that_barely_moves_it_is_not():
+    accepted, entries = _round([("soil-structure-interaction", 0.05, 2), ("inelastic-storey", 0.095, 2)])
+    assert [st.name for st in accepted] == ["soil-structure-interaction"]
+    assert entries["inelastic-storey"]["accepted"] is False  # 5 % better: under NE_GAIN
+
+
+def test_wrong_parameters_that_fit_as_well_name_no_physics():
+    # the stiffness distribution fits a little worse than the sway spring, within BIC_MARGIN: no physics
+    ne_alt = 0.0502
+    assert abs(_bic(ne_alt, 4 + 2) - _bic(0.05, 4 + 2)) < BIC_MARGIN
+    accepted, entries = _round([("soil-structure-interaction", 0.05, 2), ("stiffness-distribution", ne_alt, 2)])
+    assert [st.name for st in accepted] == ["stiffness-distribution"]
+    assert entries["soil-structure-interaction"]["accepted"] is False
+    assert "wrong parameters" in entries["soil-structure-interaction"]["beaten_by"]
+
+
+def test_physics_that_beats_the_wrong_parameters_by_the_margin_is_named():
+    accepted, _ = _round([("soil-structure-interaction", 0.03, 2), ("stiffness-distribution", 0.05, 2)])
+    assert [st.name for st in accepted] == ["soil-structure-interaction", "stiffness-distribution"]
+
+
+def test_recalibration_spans_a_mass_factor_per_building_when_buildings_can_pound():
+    data = {"building": [{"name": "A", "floor_masses": [1e5, 1e5]}, {"name": "B", "floor_masses": 2e5}],
+            "gap": [{"between": ["A", "B"], "size": 0.01}], "contact": {"stiffness": 1e9, "restitution": 0.6}}
+    specs = _base_specs(data)
+    assert "building.A.floor_masses=0.5:2.0" in specs and "building.B.floor_masses=100000.0:400000.0" in specs
+    assert "contact.stiffness" in specs and "contact.restitution" in specs
+    alone = _base_specs({"building": [{"name": "A", "floor_masses": [1e5]}]})
+    assert not any("floor_masses" in s for s in alone)  # without pounding only k/m is seen

@@ -50,7 +50,7 @@ def load_trials(path, channels) -> list[Trial]:
             raise InputError("must be a table { building = velocity or [one per floor] }", file=path,
                              key=f"{key}.initial_velocity")
         out.append(Trial(recording=recording, name=str(t.get("name", f"trial {i + 1}")), model_data=model_data,
-                         base=base, initial_velocity=iv))
+                         base=base, initial_velocity=iv, source=path, key=key))
     return out
 
 

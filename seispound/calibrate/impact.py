@@ -166,14 +166,22 @@ def impact_study(model, trials, channels, laws=SEED_LAWS, progress=False) -> Imp
 
     if isinstance(model, (str, os.PathLike)):
         model = load_model(model)
+    src = getattr(model, "source", None)
+    names = [b.name for b in model.buildings]
+    if len(names) != 2:
+        raise InputError(f"the seed's procedure needs two bodies; the model has {len(names)} buildings",
+                         file=src, key="building")
+    n_gap = model.assembled().n_gap
+    if n_gap != 1:
+        raise InputError(f"the seed's procedure needs two single-floor bodies joined by one gap element; the model "
+                         f"has {n_gap} (a multi-storey row: use calibrate or diagnose)", file=src, key="gap")
     chans = load_channels(channels, model) if isinstance(channels, (str, os.PathLike)) else list(channels)
     tri = load_trials(trials, chans) if isinstance(trials, (str, os.PathLike)) else list(trials)
     forces = [c for c in chans if c.quantity == "force"]
     disps = [c for c in chans if c.quantity == "displacement"]
-    names = [b.name for b in model.buildings]
-    if len(forces) != 1 or len(names) != 2 or model.assembled().n_gap != 1:
-        raise InputError("the seed's procedure needs two bodies, one gap element and one force channel",
-                         key="channel")
+    if len(forces) != 1:
+        raise InputError(f"the seed's procedure needs one force channel, the channel map has {len(forces)}",
+                         file=channels if isinstance(channels, (str, os.PathLike)) else None, key="channel")
     by_body = {c.building: c for c in disps if c.floor == 1}
     if set(by_body) != set(names):
         raise InputError(f"give one displacement channel (floor 1) for each body: {', '.join(names)}", key="channel")

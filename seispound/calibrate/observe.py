@@ -28,6 +28,8 @@ class Trial:
     model_data: dict | None = None  # the model file's table (None: the calibration's model)
     base: Path | None = None  # folder the model's relative paths start from
     initial_velocity: dict | None = None  # building -> list of floor velocities [m/s]
+    source: Path | None = None  # the trials file it was read from (named in errors)
+    key: str = ""  # its table in that file (trial.2)
 
 
 class Observer:
@@ -64,7 +66,9 @@ class Observer:
         for name, v in (trial.initial_velocity or {}).items():
             hit = [b for b in data.get("building", []) if b.get("name") == name]
             if not hit:
-                raise InputError(f"unknown building {name!r}", key=f"trial.{trial.name}.initial_velocity")
+                have = ", ".join(str(b.get("name")) for b in data.get("building", []))
+                raise InputError(f"unknown building {name!r} (the model has {have})", file=trial.source,
+                                 key=f"{trial.key or 'trial.' + trial.name}.initial_velocity.{name}")
             hit[0]["initial_velocity"] = v
         return data
 

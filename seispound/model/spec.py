@@ -93,7 +93,10 @@ class BuildingMotion:
     Parameters
     ----------
     delay : float
-        Arrival time after the row's record [s] (wave passage; may be negative).
+        Arrival time after the row's record [s] (wave passage).  Negative: the
+        wave reaches this building first; its motion at t is the record's at
+        t + |delay|, the record's first |delay| s are cut (warned about when
+        they hold more than 5 % of the peak) and it is zero after the record ends.
     lowpass : float, optional
         Cut-off [Hz] of a zero-phase Butterworth low-pass (loss of coherency).
     lowpass_order : int

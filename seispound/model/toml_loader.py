@@ -85,6 +85,9 @@ def read_toml(path: Path, what: str) -> tuple[str, dict]:
 
 def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
     """Build a :class:`Model` from the parsed TOML table ``data``."""
+    if "model" in data and ("axis" in data or "records" in data):
+        raise InputError("is a study file (it names a model and its axes), not a model: run it with "
+                         "`seispound study FILE -o STUDY.h5`", key="model")
     _check_keys(data, _TOP, "")
     title = data.get("title", "untitled")
     if not isinstance(title, str):

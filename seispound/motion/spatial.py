@@ -22,6 +22,9 @@ from ..errors import InputError
 __all__ = ["delayed", "ground_motion_integrals", "lowpassed", "variant"]
 
 
+LOST_SHARE = 0.05  # an advanced record whose cut start reaches this share of its peak is warned about
+
+
 def delayed(ag, dt: float, delay: float) -> np.ndarray:
     """The motion ``ag`` (nt,) [m/s^2], sampled at k dt, as it arrives ``delay`` [s] later (earlier if < 0).
 
@@ -55,9 +58,24 @@ def variant(ag, dt: float, delay: float = 0.0, lowpass: float | None = None, ord
     """``ag`` delayed and low-passed; returns the samples and the provenance steps (empty for neither)."""
     out = np.asarray(ag, dtype=float)
     steps = []
-    if delay:
+    if delay > 0:
         out = delayed(out, dt, delay)
         steps.append(f"delayed by {delay:g} s (wave passage; zero before the record arrives)")
+    elif delay < 0:
+        # a negative delay is allowed: the wave reaches this building first, so its motion at time t is the
+        # record's at t + |delay|; the record's first |delay| s fall before the analysis starts and are lost
+        lost = out[: int(round(-delay / dt))]
+        if lost.size and np.max(np.abs(lost)) > LOST_SHARE * np.max(np.abs(out)):
+            import warnings
+
+            from ..plausibility import PlausibilityWarning
+
+            warnings.warn(f"{key}.delay: {delay:g} s advances the record, and its first {-delay:g} s, which reach "
+                          f"{np.max(np.abs(lost)) / np.max(np.abs(out)):.0%} of its peak, are cut for this building",
+                          PlausibilityWarning, stacklevel=2)
+        out = delayed(out, dt, delay)
+        steps.append(f"advanced by {-delay:g} s (the wave reaches this building first; the record's first "
+                     f"{-delay:g} s are cut, zero after it ends)")
     if lowpass is not None:
         out = lowpassed(out, dt, lowpass, order, key=f"{key}.lowpass")
         steps.append(f"low-passed: zero-phase Butterworth, order {order} forward and backward, {lowpass:g} Hz "

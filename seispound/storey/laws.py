@@ -38,8 +38,10 @@ class StoreyLaw:
     n : float
         Bouc-Wen exponent (>= 1; large n approaches the bilinear law).
     beta, gamma : float
-        Bouc-Wen shape parameters (beta + gamma > 0; with beta + gamma = 1,
-        z is bounded by dy and the hysteretic force by (1 - alpha) k dy).
+        Bouc-Wen shape parameters, beta >= |gamma| and beta + gamma > 0 (the
+        bounded, dissipative class of Ikhouane, Manosa & Rodellar 2007, Syst.
+        Control Lett. 56, 197-205); with beta + gamma = 1, z is bounded by dy
+        and the hysteretic force by (1 - alpha) k dy.
     strength_degradation, stiffness_degradation : float, [-]
         Bouc-Wen only: Baber & Wen's (1981) delta_nu and delta_eta (>= 0, default 0:
         no degradation); strength and stiffness degrade as nu = 1 + delta_nu eps,
@@ -93,6 +95,10 @@ class StoreyLaw:
             if not self.beta + self.gamma > 0.0:
                 raise InputError(f"beta + gamma must be > 0 (a bounded z), got {self.beta + self.gamma:g}",
                                  key=f"{key}.gamma")
+            if not self.beta >= abs(self.gamma):
+                # outside Ikhouane, Manosa & Rodellar's (2007) class of bounded, dissipative Bouc-Wen models
+                raise InputError(f"must be >= |gamma| (a Bouc-Wen loop that dissipates energy), got beta "
+                                 f"{self.beta:g} with gamma {self.gamma:g}", key=f"{key}.beta")
         for f in ("strength_degradation", "stiffness_degradation"):
             v = getattr(self, f)
             if not (isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v >= 0.0):

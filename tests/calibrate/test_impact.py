@@ -8,6 +8,7 @@ import numpy as np
 import obspy
 import pytest
 
+from seispound import InputError
 from seispound.calibrate.channels import Channel
 from seispound.calibrate.impact import first_pulse, impact_study, velocity_at
 from seispound.calibrate.observe import Observer, Trial
@@ -81,3 +82,10 @@ def test_cli_writes_table_and_figure(tmp_path):
                           str(tmp_path / "trials.toml"), "--channels", str(tmp_path / "ch.toml"), "--laws", "Hx"],
                          capture_output=True, text=True)
     assert bad.returncode == 2 and "--laws" in bad.stderr and bad.stderr.strip().count("\n") == 0
+
+
+def test_a_multi_storey_row_is_refused_naming_the_model_file(tmp_path):
+    with pytest.raises(InputError) as err:
+        impact_study(REPO / "models" / "two_buildings.toml", tmp_path / "trials.toml", tmp_path / "ch.toml")
+    assert err.value.file == str(REPO / "models" / "two_buildings.toml") and err.value.key == "gap"
+    assert "multi-storey row" in str(err.value)

@@ -161,3 +161,24 @@ def test_trials_differ_in_initial_velocity(tmp_path):
     assert proc.returncode == 0, proc.stderr
     assert "contact.stiffness" in proc.stdout and "written to" in proc.stdout
     assert load_model(out).contact.stiffness == pytest.approx(3.2e9, rel=1e-6)
+
+
+def test_an_unknown_building_in_a_trials_file_names_the_file_and_the_key(tmp_path):
+    """A trial's initial velocity for a building the model lacks: one line naming the trials file."""
+    from seispound.calibrate.api import load_inputs
+    from seispound.calibrate.observe import Observer
+
+    text = (short_copy.__globals__["REPO"] / "models" / "slab_pendulum.toml").read_text()
+    (tmp_path / "pendulum.toml").write_text(text)
+    model = load_model(tmp_path / "pendulum.toml")
+    ds = __import__("seispound").simulate(model, twin=False)
+    tr = obspy.Trace(ds.pounding_force.values[:, 0].copy(), header=dict(network="XX", station="LAB", location="00",
+                                                                        channel="FRC", delta=float(ds.attrs["dt"])))
+    obspy.Stream([tr]).write(str(tmp_path / "t.mseed"), format="MSEED", encoding="FLOAT64")
+    (tmp_path / "trials.toml").write_text('[[trial]]\nrecording = "t.mseed"\ninitial_velocity = { Nobody = [0.3] }\n')
+    (tmp_path / "ch.toml").write_text('[[channel]]\nid = "XX.LAB.00.FRC"\nquantity = "force"\ngap = 1\n')
+    model, chans, trials = load_inputs(tmp_path / "pendulum.toml", None, tmp_path / "ch.toml", tmp_path / "trials.toml")
+    with pytest.raises(InputError) as err:
+        Observer(__import__("tomllib").loads(model.text), tmp_path, chans, trials).simulate([])
+    assert err.value.file == str(tmp_path / "trials.toml") and err.value.key == "trial.1.initial_velocity.Nobody"
+    assert "unknown building 'Nobody'" in str(err.value) and "\n" not in str(err.value)

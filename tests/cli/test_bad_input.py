@@ -169,6 +169,10 @@ CASES = {
                            "building.B.storey_law.n"),
     "bouc_wen_unbounded": (_b_law('{ kind = "bouc-wen", yield_drift = 0.01, n = 2, beta = -0.5, gamma = 0.2 }'),
                            None, "model", "building.B.storey_law.gamma"),
+    "bouc_wen_beta_below_gamma": (_b_law('{ kind = "bouc-wen", yield_drift = 0.01, n = 2, beta = 0.2, gamma = 0.5 }'),
+                                  None, "model", "building.B.storey_law.beta"),
+    "study_file_given_to_run": (lambda t: 'model = "model.toml"\n[records]\nbundled = ["elcentro_180"]\n'
+                                          '[[axis]]\npath = "gap.1.size"\nvalues = [0.01]\n', None, "model", "model"),
     "storey_law_unknown_key": (_b_law('{ kind = "bilinear", yield_drif = 0.01 }'), None, "model",
                                "building.B.storey_law.yield_drif"),
     "apparent_velocity_without_position": (sub('units = "g"\n', 'units = "g"\napparent_velocity = 300.0\n'),
@@ -184,7 +188,7 @@ CLI_CASES = ["malformed_toml", "missing_model_file", "unknown_law", "zero_mass",
              "lengths_disagree", "negative_gap", "nan_in_record", "units_unparseable", "missing_record_file",
              "unknown_key_typo", "gap_between_non_neighbours", "damping_modes_out_of_range", "dt_zero",
              "motion_lowpass_above_nyquist", "apparent_velocity_without_position", "restitution_form_unknown",
-             "storey_law_both_yields"]
+             "storey_law_both_yields", "study_file_given_to_run"]
 
 # cases whose problem lies in the record's content: found when the record is read (simulate)
 RECORD_CONTENT = {"nan_in_record", "units_contradict_record"}

@@ -3,6 +3,7 @@
 import json
 
 import numpy as np
+import pytest
 
 import seispound as sp
 from seispound.motion.spatial import variant
@@ -40,3 +41,21 @@ def test_a_record_of_its_own_delayed_and_filtered(tmp_path):
     assert np.allclose(ds.base_acceleration.sel(building="B").values, expected, rtol=1e-12, atol=1e-15)
     own = json.loads(ds.attrs["building_ground_motion"])["B"]
     assert own["steps"] == steps and isinstance(own["record"], dict)
+
+
+def test_a_negative_delay_advances_the_record_and_warns_when_it_cuts_strong_motion():
+    import warnings
+
+    from seispound.plausibility import PlausibilityWarning
+
+    dt = 0.01
+    ag = np.zeros(200)
+    ag[50] = 1.0  # a pulse at 0.5 s, quiet before it
+    out, steps = variant(ag, dt, -0.2)
+    assert out[30] == 1.0 and out[50] == 0.0 and out[-20:].tolist() == [0.0] * 20  # at 0.3 s; zero at the end
+    assert "advanced by 0.2 s" in steps[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        variant(ag, dt, -0.2)  # the cut 0.2 s are quiet: no warning
+    with pytest.warns(PlausibilityWarning, match=r"delay: -0.6 s advances the record.*100% of its peak"):
+        variant(ag, dt, -0.6)  # the pulse falls before the analysis starts

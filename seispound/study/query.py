@@ -49,7 +49,7 @@ from .schema import SCHEMA, SCHEMA_VERSION, STATUS_DONE, STATUS_FAILED, STATUS_P
 
 __all__ = [
     "open_study", "run_dims", "pick", "mask_status", "done", "worst", "reduce", "select", "where",
-    "axis_limit", "smallest_passing", "overview", "to_table", "to_csv", "to_json",
+    "axis_limit", "fails_again", "smallest_passing", "overview", "to_table", "to_csv", "to_json",
     "add_query_parser", "cmd_query",
 ]
 
@@ -444,7 +444,7 @@ def where(da: xr.DataArray, condition: str) -> xr.DataArray:
 # ---------------------------------------------------- smallest value that passes
 
 
-def axis_limit(ok: xr.DataArray, axis: str, *, largest: bool = False, monotone: bool = False) -> xr.DataArray:
+def axis_limit(ok: xr.DataArray, axis: str, *, largest: bool = False, monotone: bool = True) -> xr.DataArray:
     """The smallest (or largest) value of coordinate ``axis`` at which ``ok`` is true.
 
     Parameters
@@ -459,11 +459,11 @@ def axis_limit(ok: xr.DataArray, axis: str, *, largest: bool = False, monotone: 
     largest : bool
         False: the smallest passing value; True: the largest.
     monotone : bool
-        False: the smallest value where ``ok`` holds, whatever happens at
-        larger values.  True: the smallest value from which ``ok`` holds at
-        *every* larger value too (the safe reading when a larger gap could
-        fail again); with ``largest``, the largest value below which every
-        smaller value passes.
+        True (default): the smallest value from which ``ok`` holds at *every*
+        larger value studied too (what an engineer means by "a safe gap": a
+        larger gap can fail again); with ``largest``, the largest value below
+        which every smaller value passes.  False: the first value where ``ok``
+        holds, whatever happens beyond it (:func:`fails_again` says where).
 
     Returns
     -------
@@ -494,9 +494,27 @@ def axis_limit(ok: xr.DataArray, axis: str, *, largest: bool = False, monotone: 
     return out
 
 
+def fails_again(ok: xr.DataArray, axis: str, *, largest: bool = False) -> list[str]:
+    """Where the first passing value of ``axis`` and the safe one differ: the condition holds at the first and
+    fails again beyond it.  One line per combination of the remaining dims, as ``law=Hd: ...``."""
+    first = axis_limit(ok, axis, largest=largest, monotone=False)
+    safe = axis_limit(ok, axis, largest=largest, monotone=True)
+    units = first.attrs.get("units", "")
+    lines = []
+    for idx in np.ndindex(first.shape):
+        a, b = float(first.values[idx]), float(safe.values[idx])
+        if np.isnan(a) or a == b:
+            continue
+        where = ", ".join(f"{d}={first.coords[d].values[i]}" for d, i in zip(first.dims, idx)) or axis
+        then = f"the safe answer is {b:g} {units}".rstrip() if not np.isnan(b) else "no value is safe"
+        lines.append(f"{where}: the condition holds at {axis} = {a:g} {units} but fails again "
+                     f"{'below' if largest else 'above'} it; {then}".replace("  ", " "))
+    return lines
+
+
 def smallest_passing(ds: xr.Dataset, axis: str, threshold: float, var: str = DEFAULT_VAR,
                      over="record", q: float = 0.9, below: bool = True, *,
-                     monotone: bool = False, skipna: bool = False) -> xr.DataArray:
+                     monotone: bool = True, skipna: bool = False) -> xr.DataArray:
     """The smallest value of study axis ``axis`` for which a quantile passes a threshold.
 
     "The smallest gap per law for which the 90th percentile over records of
@@ -528,8 +546,8 @@ def smallest_passing(ds: xr.Dataset, axis: str, threshold: float, var: str = DEF
     below : bool
         True: pass where the quantile < threshold; False: where > threshold.
     monotone : bool
-        False (default): the smallest passing value.  True: the smallest
-        value from which every larger value passes as well.
+        True (default): the smallest value from which every larger value
+        studied passes as well (a safe gap).  False: the first passing value.
     skipna : bool
         False (default): an axis value where any run along ``over`` is not
         done (failed or pending) gives a NaN quantile, which does not pass:
@@ -707,9 +725,13 @@ def add_query_parser(subparsers) -> argparse.ArgumentParser:
                      help="per remaining combination, the smallest AXIS value meeting --where")
     lim.add_argument("--largest", metavar="AXIS",
                      help="per remaining combination, the largest AXIS value meeting --where")
-    p.add_argument("--monotone", action="store_true",
-                   help="with --smallest: the smallest value from which every larger one passes too "
-                        "(with --largest: every smaller one)")
+    reading = p.add_mutually_exclusive_group()
+    reading.add_argument("--monotone", action="store_true",
+                         help="with --smallest: the smallest value from which every larger one passes too "
+                              "(with --largest: every smaller one); the default")
+    reading.add_argument("--first-passing", action="store_true",
+                         help="with --smallest/--largest: the first value that passes, even if a larger "
+                              "(smaller) one fails again")
     p.add_argument("--dropna", action="store_true", help="leave out rows whose value is missing")
     p.add_argument("--format", choices=("table", "csv", "json"),
                    help="output format (default: from the -o suffix .csv/.json, else table)")
@@ -740,7 +762,8 @@ def _write_atomic(path: Path, text: str) -> None:
 
 def _is_overview(args) -> bool:
     return not (args.var or args.sel or args.status or args.reduce or args.where or args.smallest
-                or args.largest or args.format or args.strict or args.monotone or args.dropna)
+                or args.largest or args.format or args.strict or args.monotone or args.dropna
+                or args.first_passing)
 
 
 def _query(ds: xr.Dataset, args):
@@ -771,13 +794,18 @@ def _query(ds: xr.Dataset, args):
     for cond in args.where:
         da = where(da, cond)
     axis = args.smallest or args.largest
-    if args.monotone and not axis:
-        raise InputError("needs --smallest AXIS or --largest AXIS", key="--monotone")
+    for flag, given in (("--monotone", args.monotone), ("--first-passing", args.first_passing)):
+        if given and not axis:
+            raise InputError("needs --smallest AXIS or --largest AXIS", key=flag)
     if axis:
         key = "--smallest" if args.smallest else "--largest"
         if not args.where:
             raise InputError("needs --where COND: the condition the value must meet", key=key)
-        da = axis_limit(da.notnull(), axis, largest=bool(args.largest), monotone=args.monotone)
+        ok = da.notnull()
+        da = axis_limit(ok, axis, largest=bool(args.largest), monotone=not args.first_passing)
+        again = fails_again(ok, axis, largest=bool(args.largest)) if axis in ok.coords else []
+        if again:  # the two readings differ: say so, whichever was asked
+            note = "\n".join(([note] if note else []) + [f"note: {line}" for line in again])
         return da, "none", note
     return da, "nan", note
 

@@ -458,22 +458,22 @@ def test_smallest_passing_against_loops(ds, raw, monotone, skipna):
 def test_smallest_passing_sorts_by_value_not_position(ds):
     # positions 0..3 hold 0.04, 0.01, 0.03, 0.02: the first passing *position*
     # for Hd is 0.04, the smallest passing *value* is 0.02
-    out = Q.smallest_passing(ds, "gap_size", 1.2)
+    out = Q.smallest_passing(ds, "gap_size", 1.2, monotone=False)
     assert float(out.sel(law="Hd")) == 0.02
 
 
 def test_smallest_passing_above(ds, raw):
-    out = Q.smallest_passing(ds, "gap_size", 1.32, below=False, q=0.5, skipna=True)
+    out = Q.smallest_passing(ds, "gap_size", 1.32, below=False, q=0.5, skipna=True, monotone=False)
     med = over_records(raw["max_amplification"], lambda v: q_linear(v, 0.5))
     ref = smallest_ref(med > 1.32, GAPS)
     same(out, ref)
     same(out, [0.01, 0.01])
-    none = Q.smallest_passing(ds, "gap_size", 5.0, below=False)
+    none = Q.smallest_passing(ds, "gap_size", 5.0, below=False, monotone=False)
     assert none.isnull().all()
 
 
 def test_smallest_passing_per_record_and_other_var(ds, raw):
-    out = Q.smallest_passing(ds, "gap_size", 1e6, var="peak_pounding_force", over=None)
+    out = Q.smallest_passing(ds, "gap_size", 1e6, var="peak_pounding_force", over=None, monotone=False)
     assert out.dims == ("record", "law")
     worst = np.full(raw["status"].shape, np.nan)
     for idx in np.ndindex(worst.shape):
@@ -488,12 +488,12 @@ def test_axis_limit_largest_and_monotone():
     ok = xr.DataArray([[True, False, True, True], [True, True, False, True]], dims=("k", "x"),
                       coords={"x": [3.0, 1.0, 2.0, 4.0]})
     # sorted by x: row 0 passes at 1? no: x=1 is False, x=2,3,4 True; row 1: x=1,3,4 True, x=2 False
-    same(Q.axis_limit(ok, "x"), [2.0, 1.0])
+    same(Q.axis_limit(ok, "x", monotone=False), [2.0, 1.0])
     same(Q.axis_limit(ok, "x", monotone=True), [2.0, 3.0])
-    same(Q.axis_limit(ok, "x", largest=True), [4.0, 4.0])
+    same(Q.axis_limit(ok, "x", largest=True, monotone=False), [4.0, 4.0])
     same(Q.axis_limit(ok, "x", largest=True, monotone=True), [np.nan, 1.0])
     with pytest.raises(InputError, match="no coordinate 'y'") as err:
-        Q.axis_limit(ok, "y")
+        Q.axis_limit(ok, "y", monotone=False)
     assert err.value.key == "--smallest"
 
 
@@ -511,15 +511,15 @@ def test_zipped_axis_member_coordinate(tmp_path):
     path = tmp_path / "zip.h5"
     ds.to_netcdf(path, engine="h5netcdf")
     with Q.open_study(path) as st:
-        out = Q.smallest_passing(st, "gap.0.size", 1.2, q=1.0)
+        out = Q.smallest_passing(st, "gap.0.size", 1.2, q=1.0, monotone=False)
         # max over records per spacing: 1.3, 1.6, 1.1 -> passes at 0.02 only
         assert float(out) == 0.02 and out.name == "smallest_gap.0.size"
         # strictly below / above: a quantile equal to the threshold does not pass
-        assert Q.smallest_passing(st, "gap.0.size", 1.1, q=1.0).isnull()
-        assert float(Q.smallest_passing(st, "gap.0.size", 1.1 + 1e-12, q=1.0)) == 0.02
-        assert float(Q.smallest_passing(st, "gap.0.size", 1.3, q=1.0, below=False)) == 0.01
-        assert float(Q.smallest_passing(st, "gap.0.size", 1.3 - 1e-12, q=1.0, below=False)) == 0.01
-        assert Q.smallest_passing(st, "gap.0.size", 1.6, q=1.0, below=False).isnull()
+        assert Q.smallest_passing(st, "gap.0.size", 1.1, q=1.0, monotone=False).isnull()
+        assert float(Q.smallest_passing(st, "gap.0.size", 1.1 + 1e-12, q=1.0, monotone=False)) == 0.02
+        assert float(Q.smallest_passing(st, "gap.0.size", 1.3, q=1.0, below=False, monotone=False)) == 0.01
+        assert float(Q.smallest_passing(st, "gap.0.size", 1.3 - 1e-12, q=1.0, below=False, monotone=False)) == 0.01
+        assert Q.smallest_passing(st, "gap.0.size", 1.6, q=1.0, below=False, monotone=False).isnull()
         sel = Q.select(st["max_amplification"], {"gap.0.size": "0.01"})
         assert sel.values.tolist() == [1.5, 1.6]
 
@@ -559,7 +559,7 @@ def test_to_table_layout(ds, raw):
     # integers print as integers, missing values as the given marker
     counts = Q.to_table(Q.reduce(Q.done(ds, "max_amplification"), "record", "count")).split()
     assert "3" in counts and "3.0" not in counts
-    gone = Q.to_table(Q.smallest_passing(ds, "gap_size", 0.5), missing="none").splitlines()
+    gone = Q.to_table(Q.smallest_passing(ds, "gap_size", 0.5, monotone=False), missing="none").splitlines()
     assert [line.split() for line in gone[1:]] == [["Hd", "none"], ["LVe", "none"]]
 
 
@@ -614,9 +614,11 @@ def test_cli_overview(store, capsys):
 
 
 def test_cli_smallest_gap_per_law(store, raw, capsys):
-    code, out, _ = cli([store, "--reduce", "record=q90", "--where", "<1.2", "--smallest", "gap_size",
-                        "--strict", "--format", "csv"], capsys)
+    code, out, err = cli([store, "--reduce", "record=q90", "--where", "<1.2", "--smallest", "gap_size",
+                          "--strict", "--format", "csv", "--first-passing"], capsys)
     assert code == 0
+    # Hd passes at 0.02 and fails again above it: said, with the safe answer
+    assert "note: law=Hd: the condition holds at gap_size = 0.02 m but fails again above it" in err
     rows = list(csv.reader(io.StringIO(out)))
     assert rows[0] == ["law", "smallest_gap_size [m]"]
     q90 = over_records(raw["max_amplification"], lambda v: q_linear(v, 0.9), strict=True)
@@ -636,9 +638,26 @@ def test_cli_smallest_monotone_lenient_and_note(store, raw, capsys):
     assert [line.split() for line in lines[1:]] == [["Hd", "0.04"], ["LVe", "0.03"]]
 
 
+def test_cli_smallest_is_the_safe_gap_by_default(store, raw, capsys):
+    """Without a flag, --smallest answers the gap from which every larger gap studied passes, and says where
+    the first passing gap differs (an engineer's "safe gap", not the first that happens to pass)."""
+    code, out, err = cli([store, "--reduce", "record=q90", "--where", "<1.2", "--smallest", "gap_size", "--strict"],
+                         capsys)
+    assert code == 0
+    q90 = over_records(raw["max_amplification"], lambda v: q_linear(v, 0.9), strict=True)
+    passing = np.nan_to_num(q90, nan=np.inf) < 1.2
+    safe, first = smallest_ref(passing, GAPS, monotone=True), smallest_ref(passing, GAPS)
+    got = [float(line.split()[-1]) if line.split()[-1] != "none" else np.nan for line in out.splitlines()[1:]]
+    same(got, safe)
+    differs = [law for law, a, b in zip(LAWS, first, safe) if not (a == b or (np.isnan(a) and np.isnan(b)))]
+    assert differs  # the fixture has a law whose first passing gap fails again above it
+    for law in differs:
+        assert f"note: law={law}: the condition holds at gap_size" in err and "fails again above it" in err
+
+
 def test_cli_largest_and_none(store, capsys):
     _, out, _ = cli([store, "--reduce", "record=max", "--where", "<1.2", "--largest", "gap_size",
-                     "--sel", "law=Hd"], capsys)
+                     "--sel", "law=Hd", "--first-passing"], capsys)
     # Hd: max over records passes at 0.02 and 0.04 (pending run skipped at 0.04)
     assert out.splitlines()[1].strip() == "0.04"
     _, out, _ = cli([store, "--reduce", "record=max", "--where", "<0.5", "--smallest", "gap_size"], capsys)

@@ -309,15 +309,33 @@ def summary(ds, out=None) -> str:
         where = amp.fillna(-1.0).argmax(dim=("building", "floor"))
         b = str(ds.building.values[int(where["building"])])
         f = int(ds.floor.values[int(where["floor"])])
-        lines.append(f"  largest amplification {float(amp.max()):.3f} at building {b}, floor {f} "
-                     f"(peak {float(ds.peak_displacement.sel(building=b, floor=f)) * 100:.2f} cm with pounding, "
-                     f"{float(ds.peak_displacement_no_pounding.sel(building=b, floor=f)) * 100:.2f} cm without)")
+        without = float(ds.peak_displacement_no_pounding.sel(building=b, floor=f))
+        with_ = float(ds.peak_displacement.sel(building=b, floor=f))
+        ratio = f"{float(amp.max()):.3f}" if _meaningful(with_, without) else "not meaningful (no response without)"
+        lines.append(f"  largest displacement amplification (peak floor displacement with / without pounding) "
+                     f"{ratio} at building {b}, floor {f} ({_num(with_ * 100, '.2f')} cm with pounding, "
+                     f"{_num(without * 100, '.2f')} cm without)")
     lines += _engineering_lines(ds)
     for finding in json.loads(ds.attrs.get("plausibility", "[]")):
-        lines.append(f"  warning: {finding['message']}")
+        lines.append(f"  {'note' if finding.get('advisory') else 'warning'}: {finding['message']}")
     if out is not None:
         lines.append(f"  written to {out}")
     return "\n".join(lines)
+
+
+RATIO_FLOOR = 0.01  # a ratio whose denominator is below this share of its numerator says nothing
+
+
+def _meaningful(with_, without) -> bool:
+    """Whether with / without is a ratio worth printing: not of two near-zero peaks (a pendulum at rest without
+    its impact, the row's unexcited floor)."""
+    return without > 0 and without >= RATIO_FLOOR * abs(with_)
+
+
+def _num(x, spec) -> str:
+    """``x`` formatted by ``spec``, never as -0.000."""
+    s = format(x, spec)
+    return format(0.0, spec) if float(s) == 0.0 else s  # a negative value that rounds to zero
 
 
 def _gap_side(ds, g, side) -> str:
@@ -336,6 +354,7 @@ def _engineering_lines(ds) -> list[str]:
     if "peak_acceleration" not in ds:
         return []
     out = ["  building  periods [s]           quantity (largest over floors)   with     without   ratio  floor"]
+    yielding = _yielding(ds)
     rows = (("peak_acceleration", "floor acceleration [g]", 1 / 9.80665, ".3f"),
             ("peak_drift_ratio", "drift ratio [%]", 100.0, ".3f"), ("peak_storey_shear", "storey shear [kN]", 1e-3,
                                                                      ".0f"))
@@ -349,10 +368,27 @@ def _engineering_lines(ds) -> list[str]:
                 continue
             f = int(np.nanargmax(w))
             without = float(ds[f"{var}_no_pounding"].sel(building=b).values[f])
-            ratio = w[f] / without if without > 0 else float("nan")
-            out.append(f"{head if i == 0 else ' ' * len(head)}  {label:<31} {w[f] * scale:>8{fmt}}  "
-                       f"{without * scale:>8{fmt}}  {ratio:>6.2f}  {int(ds.floor.values[f]):>5}")
+            ratio = f"{w[f] / without:>6.2f}" if _meaningful(w[f], without) else f"{'-':>6}"
+            out.append(f"{head if i == 0 else ' ' * len(head)}  {label:<31} {_num(w[f] * scale, '>8' + fmt)}  "
+                       f"{_num(without * scale, '>8' + fmt)}  {ratio}  {int(ds.floor.values[f]):>5}")
+        if b in yielding and "residual_drift" in ds:
+            r = np.abs(ds.residual_drift.sel(building=b).values)
+            f = int(np.nanargmax(r))
+            out.append(f"{' ' * len(head)}  {'residual drift [mm]':<31} {_num(r[f] * 1e3, '>8.2f')}  "
+                       f"{'':>8}  {'':>6}  {int(ds.floor.values[f]):>5}")
     return out
+
+
+def _yielding(ds) -> set:
+    """The buildings whose storeys can yield (a storey law other than elastic in the stored model text)."""
+    import tomllib
+
+    try:
+        data = tomllib.loads(ds.attrs.get("model_text", ""))
+    except tomllib.TOMLDecodeError:
+        return set()
+    return {str(b.get("name")) for b in data.get("building", [])
+            if isinstance(b.get("storey_law"), dict) and b["storey_law"].get("kind", "elastic") != "elastic"}
 
 
 def _laws() -> int:

@@ -72,12 +72,17 @@ class Finding:
         The model key it concerns (``ground_motion.units``, ``analysis.dt`` ...).
     refuse : bool
         True if the run is refused unless forced.
+    advisory : bool
+        True for what is expected and no error (impact velocity ratios outside
+        [0, 1]): stored with the result and printed as a note by the run
+        summary, never raised as a warning.
     """
 
     code: str
     message: str
     key: str = ""
     refuse: bool = False
+    advisory: bool = False
 
 
 def check_before_run(model, provenance: dict | None, ground_acceleration=None, *,
@@ -242,16 +247,18 @@ def check_after_run(ds) -> list[Finding]:
                           f"outside [0, 1] (range {lo:.3g} to {hi:.3g}); this is expected, not an error: the floors "
                           "belong to buildings whose storey forces and other contacts act during the impact, so "
                           "this ratio (impact_velocity_ratio) is not the contact law's restitution e",
-        key="contact.restitution")]
+        key="contact.restitution", advisory=True)]
 
 
 def issue(findings, *, force: bool, file=None) -> None:
-    """Raise InputError for the first refusing finding (unless ``force``); warn for every finding."""
+    """Raise InputError for the first refusing finding (unless ``force``); warn for every finding that is not
+    advisory."""
     for f in findings:
         if f.refuse and not force:
             raise InputError(f.message, file=file, key=f.key)
     for f in findings:
-        warnings.warn(f.message, PlausibilityWarning, stacklevel=3)
+        if not f.advisory:
+            warnings.warn(f.message, PlausibilityWarning, stacklevel=3)
 
 
 def to_json(findings) -> str:

@@ -29,8 +29,8 @@ def run(args, cwd):
 
 
 _GAP_ROW = re.compile(r"^\s+(\d+)\s+(\S+)\|(\S+)\s+(\d+)\|(\d+)\s+([0-9.]+)\s+(\d+)\s+([0-9.]+)$")
-_AMP = re.compile(r"largest amplification ([0-9.]+) at building (\S+), floor (\d+) "
-                  r"\(peak ([0-9.]+) cm with pounding, ([0-9.]+) cm without\)")
+_AMP = re.compile(r"largest displacement amplification \(peak floor displacement with / without pounding\) "
+                  r"([0-9.]+) at building (\S+), floor (\d+) \(([0-9.]+) cm with pounding, ([0-9.]+) cm without\)")
 
 
 @pytest.fixture(scope="module")
@@ -80,7 +80,7 @@ def test_summary_matches_the_dataset(cli_run):
         assert (int(r[3]), int(r[4])) == (g + 1, g + 1)
         assert float(r[5]) == pytest.approx(0.02)
         assert float(r[7]) == pytest.approx(float(ds.peak_pounding_force[g]) / 1e3, abs=0.051)
-    amp_lines = [ln for ln in lines if "largest amplification" in ln]
+    amp_lines = [ln for ln in lines if "largest displacement amplification" in ln]
     assert len(amp_lines) == 1
     m = _AMP.search(amp_lines[0])
     assert m, amp_lines[0]

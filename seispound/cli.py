@@ -15,6 +15,7 @@ from pathlib import Path
 from .errors import InputError
 
 EXIT_INPUT = 2
+EXIT_UNCONVERGED = 3  # calibrate: the fit stopped at its cap on simulations (--allow-unconverged: 0)
 EXIT_FAILED = 1
 
 
@@ -63,6 +64,11 @@ def _parser() -> argparse.ArgumentParser:
                      help="a parameter to fit, by its dotted path (as in a study axis); repeat for more")
     cal.add_argument("-o", "--output", help="calibrated model file (.toml); default: MODEL_calibrated.toml")
     cal.add_argument("--max-evaluations", type=int, help="cap on the number of simulations")
+    cal.add_argument("--allow-unconverged", action="store_true",
+                     help="write the model even if the fit stops at --max-evaluations (exit 0)")
+    cal.add_argument("--starts", type=int, default=16,
+                     help="global starts across the bounds when the first fit ends far above the noise "
+                          "(default 16; 0: the model's own values only)")
     cal.add_argument("-q", "--quiet", action="store_true", help="no progress or summary")
     imp = sub.add_parser("impact", help="the seed paper's procedure on impact tests: per trial and law, the "
                                         "stiffness matching the peak force, e from the displacements, NE of the "
@@ -182,11 +188,19 @@ def _calibrate(args) -> int:
         raise InputError("give recording files or --trials, not both", key="recording")
     if args.max_evaluations is not None and args.max_evaluations < 1:
         raise InputError(f"must be >= 1, got {args.max_evaluations}", key="--max-evaluations")
+    if args.starts < 0:
+        raise InputError(f"must be >= 0, got {args.starts}", key="--starts")
     with _w.catch_warnings():
         _w.simplefilter("ignore", PlausibilityWarning)
         res = calibrate(model_path, args.recording or None, channels=args.channels, fit=args.fit,
                         trials=args.trials, progress=not args.quiet, max_evaluations=args.max_evaluations,
-                        output=out)
+                        output=out, starts=args.starts)
+    if not res.converged and not args.allow_unconverged:
+        if not args.quiet:
+            print(res.summary())
+        print(f"seispound: the fit stopped at --max-evaluations {args.max_evaluations} before converging; nothing "
+              "written (more evaluations, or --allow-unconverged to write it anyway)", file=sys.stderr)
+        return EXIT_UNCONVERGED
     with atomic_output(out, key="--output") as tmp:
         Path(tmp).write_text(res.model_text, encoding="utf-8")
     if not args.quiet:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import sys
 from pathlib import Path
 
 from ..errors import InputError
@@ -80,8 +81,13 @@ def load_inputs(model, recordings, channels, trials):
     raise InputError("give the recording files, or a trials file", key="recording")
 
 
+STARTS = 16  # Sobol points across the bounds, each judged by one simulation, when the first fit ends far off
+NEAR = 1.5  # ... far off: above this many times the NE the sensor noise leaves
+NE_FLOOR = 1e-3  # the noise's NE taken no lower than this (noise-free synthetic recordings)
+
+
 def calibrate(model, recordings=None, *, channels, fit, trials=None, progress=True, max_evaluations=None,
-              output=None):
+              output=None, starts=STARTS):
     """Fit ``fit`` (``PATH[=lo:hi]`` strings) so that ``model`` reproduces the recordings.
 
     Parameters
@@ -102,6 +108,13 @@ def calibrate(model, recordings=None, *, channels, fit, trials=None, progress=Tr
         Cap on simulations (scipy's ``max_nfev``).
     output : path, optional
         Where the calibrated model will be written: its relative record paths are rebased there.
+    starts : int
+        Global starts (default 16; 0: the nominal point only).  When the fit from the model's own
+        values ends above NEAR (1.5) times the NE the sensor noise leaves, ``starts`` points of a
+        scrambled Sobol sequence (fixed seed) across the parameters' (log-)bounds are each judged
+        by one simulation, a second fit runs from the best, and the better fit is kept: a
+        pounding misfit has local minima (a stiffness factor of 1.38 and a gap three times too
+        large where the truth is 0.82 and 0.65).  The same scan as ``diagnose``'s recalibration.
 
     Returns
     -------
@@ -117,5 +130,53 @@ def calibrate(model, recordings=None, *, channels, fit, trials=None, progress=Tr
     params = parse_fit(list(fit), data)
     observer = Observer(data, base, chans, trial_list)
     write_base = None if output is None else os.path.dirname(os.path.abspath(output))
-    return calibrate_observer(observer, params, progress=progress, max_evaluations=max_evaluations,
+    best = calibrate_observer(observer, params, progress=progress, max_evaluations=max_evaluations,
                               write_base=write_base)
+    noise = max(best.noise_ne, NE_FLOOR)
+    if starts < 1 or not best.ne_mean_after > NEAR * noise:
+        return best
+    start = _best_start(observer, params, data, starts)
+    if start is None:
+        return best
+    if progress:
+        print(f"  NE {best.ne_mean_after:.4f} is {best.ne_mean_after / noise:.1f} times the noise's: "
+              f"fitted again from the best of {starts} points across the bounds", file=sys.stderr)
+    from dataclasses import replace
+
+    again = calibrate_observer(observer, [replace(p, start=start[p.path]) for p in params], progress=progress,
+                               max_evaluations=max_evaluations, write_base=write_base)
+    out = again if again.ne_mean_after < best.ne_mean_after else best
+    out.starts = 2
+    return out
+
+
+def _best_start(observer, params, data, n):
+    """{path: start} at the best of ``n`` scrambled Sobol points across the (log-)bounds, each judged by one
+    simulation (sum of NE^2 over channels and trials), or None if none runs.  A key is scanned as one value
+    across the buildings (every building's storey-stiffness factor alike), so that a few points cover the
+    scan's few dimensions; the fit then sets the buildings apart."""
+    import math
+
+    from scipy.stats import qmc
+
+    from ..study.paths import get_value
+    from .fit import normalised_errors
+
+    recs = [{c.id: t.recording.data[c.id] for c in observer.channels} for t in observer.trials]
+    groups = {}  # a key of every building scanned as one value: the scan's dimension is the number of keys
+    for p in params:
+        parts = p.path.split(".")
+        groups.setdefault(".".join(["building", "*"] + parts[2:]) if parts[0] == "building" else p.path, []).append(p)
+    best = None
+    for u in qmc.Sobol(len(groups), scramble=True, seed=2026).random(n):
+        x = {p.path: (p.lo * (p.hi / p.lo) ** ui if p.log else p.lo + ui * (p.hi - p.lo))
+             for members, ui in zip(groups.values(), u) for p in members}
+        over = [(p.path, p.value_at(get_value(data, p.path), x[p.path])) for p in params]
+        try:
+            sims = observer.simulate(over)
+        except Exception:  # noqa: BLE001 (a point where the model cannot run is no start)
+            continue
+        rss = sum(v * v for s, r in zip(sims, recs) for v in normalised_errors(s, r).values())
+        if math.isfinite(rss) and (best is None or rss < best[0]):
+            best = (rss, x)
+    return None if best is None else best[1]

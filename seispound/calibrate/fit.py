@@ -126,10 +126,14 @@ def parse_fit(specs, model_data) -> list[FitParameter]:
 class CalibrationResult:
     """What a calibration found.
 
-    Attributes: parameters (path -> dict of value, start, stderr, lo, hi, at_bound), correlation
-    (p, p), ne_before / ne_after (trial -> {trace id: NE}), ne_mean_before / ne_mean_after (mean
-    over every mapped channel of every trial), evaluations, seconds, model_text (the calibrated
-    model file), n_eff / n (the residual's effective and actual sample counts), message.
+    Attributes: parameters (path -> dict of value, start, stderr, lo, hi, at_bound, identified,
+    reason), correlation (p, p), ne_before / ne_after (trial -> {trace id: NE}), ne_mean_before /
+    ne_mean_after (mean over every mapped channel of every trial), evaluations, seconds, model_text
+    (the calibrated model file), n_eff / n (the residual's effective and actual sample counts),
+    message, converged (False when the fit stopped at its cap on simulations), noise_ne (the NE
+    the recordings' sensor noise alone leaves, mean over channels), starts (fits started).
+    A parameter the data cannot constrain (its Jacobian column zero, or a flat direction of
+    J^T J) has ``identified`` False, ``stderr`` inf and the reason in words.
     """
 
     parameters: dict
@@ -146,14 +150,26 @@ class CalibrationResult:
     success: bool
     message: str
     history: list = field(default_factory=list)
+    converged: bool = True
+    noise_ne: float = float("nan")
+    starts: int = 1
 
     def summary(self) -> str:
         lines = [f"calibration: {self.evaluations} simulations, {self.seconds:.1f} s; NE (mean over channels) "
-                 f"{self.ne_mean_before:.4f} -> {self.ne_mean_after:.4f}"]
+                 f"{self.ne_mean_before:.4f} -> {self.ne_mean_after:.4f}"
+                 + (f" (fits from {self.starts} starts)" if self.starts > 1 else "")]
+        if not self.converged:
+            lines.append("  NOT CONVERGED: the fit stopped at its cap on simulations (--max-evaluations)")
+        noise = max(self.noise_ne, 1e-3)  # noise-free synthetic recordings: a misfit of 0.1 % is a fit
+        if math.isfinite(self.noise_ne) and self.ne_mean_after > FAR * noise:
+            lines.append(f"  the fit ends {self.ne_mean_after / noise:.1f} times above what the sensor noise "
+                         f"leaves (NE {self.noise_ne:.4f}): the model cannot reproduce the recordings with these "
+                         "parameters (seispound diagnose says where and why)")
         lines.append(f"  {'parameter':40s} {'start':>12s} {'fitted':>12s} {'std. error':>11s}")
         for path, p in self.parameters.items():
             flag = "  (at a bound)" if p["at_bound"] else ""
-            lines.append(f"  {path:40s} {p['start']:12.5g} {p['value']:12.5g} {p['stderr']:11.3g}{flag}")
+            err = f"{p['stderr']:11.3g}" if p.get("identified", True) else f"{'-':>11s}  not identified: {p['reason']}"
+            lines.append(f"  {path:40s} {p['start']:12.5g} {p['value']:12.5g} {err}{flag}")
         names = list(self.parameters)
         for i in range(len(names)):
             for j in range(i):
@@ -235,17 +251,63 @@ def calibrate_observer(observer, params, progress=True, max_evaluations=None, wr
     with np.errstate(invalid="ignore", divide="ignore"):
         corr = cov_y / np.outer(sd_y, sd_y)
     out = {}
+    blind = _not_identified(fit.jac, [p.path for p in params], observer)
     for k, p in enumerate(params):
         sd = xs[k] * sd_y[k] if p.log else sd_y[k]
         at_bound = bool(fit.active_mask[k] != 0)
-        out[p.path] = dict(value=xs[k], start=p.start, stderr=float(sd), lo=p.lo, hi=p.hi, at_bound=at_bound,
-                           factor=p.factor)
+        out[p.path] = dict(value=xs[k], start=p.start, stderr=float(sd) if p.path not in blind else math.inf,
+                           lo=p.lo, hi=p.hi, at_bound=at_bound, factor=p.factor, identified=p.path not in blind,
+                           reason=blind.get(p.path, ""))
     text = _calibrated_text(observer, params, base_values, xs, write_base)
     mean = lambda d: float(np.mean([v for nes in d.values() for v in nes.values()]))  # noqa: E731
     return CalibrationResult(parameters=out, correlation=corr, ne_before=ne_before, ne_after=ne_after,
                              ne_mean_before=mean(ne_before), ne_mean_after=mean(ne_after),
                              evaluations=observer.evaluations, seconds=time.perf_counter() - t0, model_text=text,
-                             n=n, n_eff=n_eff, success=bool(fit.success), message=str(fit.message), history=history)
+                             n=n, n_eff=n_eff, success=bool(fit.success), message=str(fit.message), history=history,
+                             converged=bool(fit.status > 0), noise_ne=noise_ne(observer))
+
+
+FAR = 3.0  # a fit ending above this many times the noise's NE is said to be far above the noise
+FLAT = 1e-6  # a singular value of J below this fraction of the largest: a direction the data cannot see
+
+
+def noise_ne(observer) -> float:
+    """The NE that the recordings' sensor noise alone leaves, mean over the mapped channels of every trial: the
+    noise's standard deviation from the second differences (robust scale; ``diagnose.locate.noise_sigma``)
+    times sqrt(n), over the channel's norm."""
+    from ..diagnose.locate import noise_sigma
+
+    vals = [noise_sigma(x) * math.sqrt(x.size) / max(np.linalg.norm(x), 1e-300)
+            for t in observer.trials for c in observer.channels for x in [t.recording.data[c.id]]]
+    return float(np.mean(vals)) if vals else float("nan")
+
+
+def _not_identified(J, paths, observer) -> dict:
+    """{path: why the data cannot constrain it} from the Jacobian ``J`` (n, p) at the fit.
+
+    A zero column: the simulated channels do not change with the parameter (a gap or contact
+    constant with no impact in any trial's fitted simulation says so).  A singular value of J
+    below FLAT times the largest: a flat direction, and the parameters that make up most of it
+    trade off against each other (each named with its partner).
+    """
+    J = np.asarray(J, float)
+    if J.size == 0:
+        return {}
+    cols = np.linalg.norm(J, axis=0)
+    out = {}
+    no_impact = not any(len(t) for t in getattr(observer, "impact_times", []) or [])
+    for k, path in enumerate(paths):
+        if cols[k] <= 1e-12 * max(cols.max(), 1e-300):
+            contact = path.startswith(("gap.", "contact."))
+            out[path] = ("no impact in the recording: the fitted model's gaps never close" if contact and no_impact
+                         else "the recorded channels do not change with it")
+    _, s, vt = np.linalg.svd(J / np.where(cols > 0, cols, 1.0), full_matrices=False)
+    for row in vt[s < FLAT * s.max()]:
+        big = [k for k in np.argsort(-np.abs(row)) if abs(row[k]) >= 0.3 and paths[k] not in out]
+        for k in big:
+            partners = [paths[j] for j in big if j != k]
+            out[paths[k]] = ("trades off with " + ", ".join(partners) if partners else "a flat direction of the fit")
+    return out
 
 
 def _covariance(fit, recs):

@@ -419,7 +419,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
         say(f"fitting {len(names)} hypotheses in all their forms, each with the base parameters ({jobs} at once)")
         recal_values = {p.path: get_value(recal, p.path) for p in base_params}
         outcomes = _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, base_fit.ne_mean_after,
-                            joint=joint, alt=recal_values)
+                            joint=joint, alt=recal_values, say=say)
         offset = len(joint)
     ref = _Step(None, base_fit, bic_base, len(base_params))
     accepted, entries = _judge(outcomes, ref, n, n_eff, say, offset=offset)
@@ -438,7 +438,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
             second = tomllib.loads(first_step.fit.model_text)
             fitted = [f"{q}={v['lo']!r}:{v['hi']!r}" for q, v in first_step.fit.parameters.items()]
             more, entries = _judge(_fit_all(rest, second, base, chans, trial_list, max_evaluations, jobs,
-                                            first_step.fit.ne_mean_after, joint=fitted), first_step, n, n_eff,
+                                            first_step.fit.ne_mean_after, joint=fitted, say=say), first_step, n, n_eff,
                                    say, offset=max(first_step.p, len(fitted)))
             for name, entry in entries.items():
                 tried.setdefault(name, {})["on_top_of_" + first_step.name] = entry
@@ -507,7 +507,8 @@ WITHIN = 1.5  # forms whose short fit is within this factor of the best short fi
 STEP = 1e-3  # finite-difference step, a fraction of each parameter's (log-)range (calibrate_observer)
 
 
-def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_base, joint=(), alt=None):
+def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_base, joint=(), alt=None,
+             say=lambda msg: None):
     """Yield (name, (fit, number of the hypothesis's own parameters, whether it was polished) or an error
     string) per hypothesis, fitted in parallel processes.
 
@@ -520,7 +521,8 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
     fitted: the base's, and a first physics's).  Once every short fit is in, every form within WITHIN
     of the best short fit is polished too (at least the closest): ten iterations from the null point or
     a scan point may not reach a minimum that is far away, so a ranking of short fits must not drop a
-    form that can still win.  A hypothesis keeps its best form.
+    form that can still win.  A hypothesis keeps its best form.  ``say`` reports each task as it
+    ends (progress through the longest phase of a diagnosis).
     """
     import heapq
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -555,6 +557,7 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
             done = wait(pending, return_when=FIRST_COMPLETED).done if pool else list(pending)
             for fut in done:
                 (kind, form), out = pending.pop(fut), fut.result()
+                _progress(say, kind, form, out, len(final), len(forms))
                 if isinstance(out, str):  # an augmentation that cannot run is reported, not fatal
                     final[form] = out
                 elif kind == "starts":
@@ -597,6 +600,20 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
             yield name, (fit, len(specs), was_polished)
         elif outs:
             yield name, outs[0][0]
+
+
+def _progress(say, kind, form, out, finished, total):
+    """One line per finished task of ``_fit_all``: which form, what it reached."""
+    name, v = form
+    tag = f"{name}, form {v + 1} of {CANDIDATES_ALL[name].variants}"
+    if isinstance(out, str):
+        say(f"  {tag}: cannot run ({out})")
+    elif kind == "starts":
+        say(f"  {tag}: {len(out[2])} starts chosen")
+    elif kind == "short":
+        say(f"  {tag}: short fit NE {out[0].ne_mean_after:.4f} ({finished} of {total} forms screened)")
+    else:
+        say(f"  {tag}: polished with the base parameters, NE {out.ne_mean_after:.4f}")
 
 
 class _Done:

@@ -59,3 +59,18 @@ def test_recalibration_spans_a_mass_factor_per_building_when_buildings_can_pound
     assert "contact.stiffness" in specs and "contact.restitution" in specs
     alone = _base_specs({"building": [{"name": "A", "floor_masses": [1e5]}]})
     assert not any("floor_masses" in s for s in alone)  # without pounding only k/m is seen
+
+
+def test_every_finished_fit_task_is_reported_as_progress():
+    from seispound.diagnose.api import _progress
+
+    lines = []
+    fit = _fit(0.0421)
+    _progress(lines.append, "starts", ("soil-structure-interaction", 1), ({}, [], [{}, {}, {}, {}]), 0, 12)
+    _progress(lines.append, "short", ("soil-structure-interaction", 1), (fit, []), 3, 12)
+    _progress(lines.append, "polish", ("soil-structure-interaction", 1), fit, 12, 12)
+    _progress(lines.append, "short", ("inelastic-storey", 0), "ValueError: bad", 4, 12)
+    assert lines == ["  soil-structure-interaction, form 2 of 2: 4 starts chosen",
+                     "  soil-structure-interaction, form 2 of 2: short fit NE 0.0421 (3 of 12 forms screened)",
+                     "  soil-structure-interaction, form 2 of 2: polished with the base parameters, NE 0.0421",
+                     "  inelastic-storey, form 1 of 3: cannot run (ValueError: bad)"]

@@ -1,7 +1,7 @@
 """Every command shown to a user is run: the README and docs/ (shell, console and Python blocks),
 the header comments of models/*.toml, and the docstrings and help texts of the package.
 
-Commands run in a sandbox folder holding copies of ``models/`` and ``ground_motions/``,
+Commands run in a sandbox folder holding copies of ``models/``, ``ground_motions/`` and ``examples/``,
 in the order the README shows them (the study before its queries).  A console block's
 printed output is compared with what the command prints (a line ``...`` stands for
 lines left out).  Benchmark commands (``python -m benchmarks.X``, ``python -m
@@ -51,7 +51,7 @@ def _local(cmd: str) -> str:
 def shell_commands(text: str) -> list[str]:
     """Commands of a bash block: non-comment lines, with trailing comments dropped."""
     out = []
-    for line in text.splitlines():
+    for line in text.replace("\\\n", " ").splitlines():  # a line ending in a backslash continues on the next
         line = line.strip()
         if not line or line.startswith("#"):
             continue
@@ -83,7 +83,7 @@ def docstring_commands(path: Path) -> list[str]:
 @pytest.fixture(scope="module")
 def sandbox(tmp_path_factory):
     root = tmp_path_factory.mktemp("documented")
-    for name in ("models", "ground_motions"):
+    for name in ("models", "ground_motions", "examples"):
         shutil.copytree(REPO / name, root / name)
     return root
 

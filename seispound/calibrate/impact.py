@@ -91,6 +91,14 @@ class TrialFit:
     laws: dict = field(default_factory=dict)  # law -> LawFit
 
 
+def _stiffness_units(law: str) -> str:
+    """The units of a law's stiffness, from the law's own parameter description (N/m, N/m^1.5 ...)."""
+    from ..contact import get_law
+
+    units = {p.name: p.units for p in get_law(law).describe_params()}
+    return units.get("stiffness", "?")
+
+
 @dataclass
 class ImpactStudy:
     """Per trial and law: stiffness, NE, simulated pulse (``trials``); ``table()`` and ``figure()``."""
@@ -108,7 +116,7 @@ class ImpactStudy:
             lines.append(f"| {t.name} | {t.velocity:.3f} | {t.restitution:.3f} | "
                          + " | ".join(f"{x:.2%}" for x in ne) + f" | {best} |")
         lines.append("")
-        lines.append("| trial | " + " | ".join(f"k {law}" for law in self.laws) + " |")
+        lines.append("| trial | " + " | ".join(f"k {law} [{_stiffness_units(law)}]" for law in self.laws) + " |")
         lines.append("|" + "---|" * (1 + len(self.laws)))
         for t in self.trials:
             lines.append(f"| {t.name} | " + " | ".join(f"{t.laws[law].stiffness:.4g}" for law in self.laws) + " |")

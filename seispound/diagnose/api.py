@@ -541,6 +541,8 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
             pending[pool.submit(g, *args) if pool else _Done(g(*args))] = t
 
     final, shorts, left, polished = {}, {form: [] for form in forms}, {}, set()
+    screen = {}  # each form's best short fit: what the screen ranks
+    origins = {}  # each form's best short fit from the nominal and from the recalibrated base values
     screened = False  # every short fit is in and the forms near the best were sent to be polished
     count = iter(range(1 << 30))
 
@@ -548,7 +550,8 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
         polished.add(form)
         fit, specs = final[form]
         both = _compatible(joint, specs) + specs  # its own last: a storey's stiffness set after the list's factor
-        run(("polish", form), _polish, fit.model_text, specs, both, *common,
+        texts = [f.model_text for f in origins[form].values()]  # the best short fit from each set of base values
+        run(("polish", form), _polish, texts, specs, both, *common,
             min(POLISH * (len(both) + 1), max_evaluations))
     try:
         for form in forms:
@@ -569,8 +572,12 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
                     shorts[form].append(out)
                     left[form] -= 1
                     if left[form] == 0:
-                        fit, specs = min(shorts[form], key=lambda o: o[0].ne_mean_after)
+                        fit, specs, _ = min(shorts[form], key=lambda o: o[0].ne_mean_after)
                         final[form] = (fit, specs)
+                        origins[form] = {}
+                        for f, _, st in sorted(shorts[form], key=lambda o: o[0].ne_mean_after):
+                            origins[form].setdefault(bool(alt) and any(k in st for k in alt), f)
+                        screen[form] = fit.ne_mean_after
                         if fit.ne_mean_after < ne_base:
                             polish(form)
                 elif kind == "polish" and out.ne_mean_after <= final[form][0].ne_mean_after:  # it improved
@@ -580,11 +587,13 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
                     # form within WITHIN of the best short fit is polished too (none is dropped because
                     # ten iterations ranked it below another), and the closest when none got past
                     screened = True
-                    fitted = [f for f in forms if not isinstance(final[f], str)]
+                    # (judged on the short fits alone, never on polishes that happen to be done: the
+                    # screen must not depend on which task a worker finished first)
+                    fitted = [f for f in forms if f in screen]
                     if fitted:
-                        best = min(final[f][0].ne_mean_after for f in fitted)
+                        best = min(screen[f] for f in fitted)
                         for f in fitted:
-                            if f not in polished and final[f][0].ne_mean_after <= WITHIN * best:
+                            if f not in polished and screen[f] <= WITHIN * best:
                                 polish(f)
             while queue and len(pending) < workers:  # the freed workers take the next tasks
                 _, _, t, g, args = heapq.heappop(queue)
@@ -679,7 +688,7 @@ def _short(aug, specs, start, base, chans, trial_list):
         fit = calibrate_observer(Observer(trial_data, base, chans, trial_list), parse_fit(specs, trial_data),
                                  progress=False, max_evaluations=SHORT * (len(specs) + 1), tolerance=TOLERANCE,
                                  step_fraction=STEP)
-        return fit, specs
+        return fit, specs, start
     except Exception as exc:  # noqa: BLE001
         return f"{type(exc).__name__}: {exc}"
 
@@ -718,11 +727,13 @@ def _best_candidates(aug, specs, base, chans, trial_list, bases=({},)) -> list[d
     return [s for _, _, s in sorted(scored)[:STARTS]]
 
 
-def _polish(text, specs, both, base, chans, trial_list, max_evaluations):
-    """The screened fit (model text) fitted on to convergence in its own parameters (``specs``), then together
-    with the ones already fitted (``both`` holds all), from there: each stage has its own budget and starts
-    where the last ended, so the result is never worse than the screened fit.  A joint fit that cannot run
-    (a bound the screened values left) leaves the first stage's."""
+def _polish(texts, specs, both, base, chans, trial_list, max_evaluations):
+    """The screened fits (model texts: a form's best short fit from the nominal base values and from the
+    recalibrated ones) each fitted on to convergence in their own parameters (``specs``), then the better
+    together with the ones already fitted (``both`` holds all), from there: each stage has its own budget
+    and starts where the last ended, so the result is never worse than the screened fit.  Both bases are
+    polished because the recalibrated values compensate for the missing physics (a start that fits
+    better at first may end worse).  A joint fit that cannot run leaves the first stage's."""
     import tomllib
     from dataclasses import replace
 
@@ -734,8 +745,11 @@ def _polish(text, specs, both, base, chans, trial_list, max_evaluations):
         return calibrate_observer(Observer(data, base, chans, trial_list), params, progress=False,
                                   max_evaluations=budget, tolerance=TOLERANCE, step_fraction=STEP)
 
-    start = tomllib.loads(text)
-    own = fit(start, parse_fit(specs, start))
+    owns = []
+    for text in texts:
+        start = tomllib.loads(text)
+        owns.append(fit(start, parse_fit(specs, start)))
+    own = min(owns, key=lambda f: f.ne_mean_after)
     if len(both) == len(specs):
         return own
     start = tomllib.loads(own.model_text)

@@ -275,10 +275,9 @@ def noise_ne(observer) -> float:
     """The NE that the recordings' sensor noise alone leaves, mean over the mapped channels of every trial: the
     noise's standard deviation from the second differences (robust scale; ``diagnose.locate.noise_sigma``)
     times sqrt(n), over the channel's norm."""
-    from ..diagnose.locate import noise_sigma
+    from ..diagnose.locate import noise_ne as channel_noise_ne
 
-    vals = [noise_sigma(x) * math.sqrt(x.size) / max(np.linalg.norm(x), 1e-300)
-            for t in observer.trials for c in observer.channels for x in [t.recording.data[c.id]]]
+    vals = [channel_noise_ne(t.recording.data[c.id]) for t in observer.trials for c in observer.channels]
     return float(np.mean(vals)) if vals else float("nan")
 
 

@@ -35,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from .hypotheses import ALTERNATIVES, HYPOTHESES
-from .locate import locate, noise_sigma
+from .locate import locate, noise_ne as channel_noise_ne
 from .signature import (
     BAND,
     Z_ROCKING,
@@ -891,9 +891,8 @@ def _instrument_fault(data, base_params, base, chans, trial_list, max_evaluation
 
 
 def _noise_ne(trial, cid) -> float:
-    """The NE that the sensor noise alone leaves on channel ``cid`` of ``trial`` (locate.noise_sigma)."""
-    x = trial.recording.data[cid]
-    return noise_sigma(x) * math.sqrt(trial.recording.npts) / max(np.linalg.norm(x), 1e-300)
+    """The NE that the sensor noise alone leaves on channel ``cid`` of ``trial`` (locate.noise_ne)."""
+    return channel_noise_ne(trial.recording.data[cid])
 
 
 def _verdict(ne, noise_ne, left_out, kept_as_given, fault, mismatch, wrong=()) -> str:

@@ -21,6 +21,12 @@ def noise_sigma(x) -> float:
     return float(np.median(np.abs(d2 - np.median(d2))) / 0.6745 / np.sqrt(6.0))
 
 
+def noise_ne(x) -> float:
+    """The NE (seed Eq. 10) that the sensor noise alone leaves on a recorded channel ``x``: sigma sqrt(n) / ||x||."""
+    x = np.asarray(x, float)
+    return noise_sigma(x) * np.sqrt(x.size) / max(np.linalg.norm(x), 1e-300)
+
+
 def locate(residuals: dict, recorded: dict, dt: float, window: float = 1.0, impact_times=()) -> list[dict]:
     """Per channel: its share of the residual energy, the window holding most of it, and the band above the noise.
 

@@ -44,8 +44,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ._borrow import borrow, keep_alive
 from ._contact import _begin_impact, _contact_step, _end_impact, _group_contacts, _peak_through
-from ._elements import _dot, _scatter, assemble_band, kinetic_energy, linear_forces, mass_times, strain_energy
+from ._elements import _add_to_band, _dot, _scatter, assemble_band, kinetic_energy, linear_forces, mass_times, strain_energy
 from ._events import LAND_TOL, _event_in_step
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
 from ._linear import _dense_solve, _factor_band, _solve_range
@@ -157,7 +158,7 @@ def _newton(lo, hi, act, Gm, dl, rl, Fm, cc, ne_code, ne_par, st_c, st_t, scale,
             s1 = 0.0
             for r in range(lo, hi):
                 s1 += Gm[k, r] * Fm[r]
-            f, dfd, dfv = material_trial(ne_code[q], ne_par[q], st_c[q], st_t[q], dl[k] - s1, rl[k] - cc * s1)
+            f, dfd, dfv = material_trial(ne_code[q], ne_par, st_c, st_t, q, dl[k] - s1, rl[k] - cc * s1)
             resv[k] = Fm[k] - f
             kt[k] = dfd + cc * dfv
             rn = max(rn, abs(resv[k]))
@@ -178,10 +179,105 @@ def _newton(lo, hi, act, Gm, dl, rl, Fm, cc, ne_code, ne_par, st_c, st_t, scale,
 
 
 @njit(cache=True)
-def _deformation(ne_dof, ne_coef, ne_size, q, u, du, v, dv, gk, row):
-    """Deformation and rate of element q at u + du, v + dv; gk[row], gk[row + 1]: its ground terms."""
-    return (_dot(ne_dof, ne_coef, q, u) + _dot(ne_dof, ne_coef, q, du) - ne_size[q] + gk[row, q],
-            _dot(ne_dof, ne_coef, q, v) + _dot(ne_dof, ne_coef, q, dv) + gk[row + 1, q])
+def _newton_tangent(lo, hi, act, el, dl, rl, Fm, cc, st_c, st_t, fac, work, scale, rtol, max_iter):
+    """Newton-Raphson on the forces Fm[lo:hi] of a group that holds storeys with state, on the banded tangent.
+
+    The same iteration as ``_newton`` (module docstring), Delta F = -(I + K_t G)^-1 res with
+    G = B^T A^-1 B, solved without G: by the push-through (Woodbury) identity
+
+        (I + K_t B^T A^-1 B)^-1 = I - K_t B^T (A + B K_t B^T)^-1 B,
+
+    so Delta F = -res + K_t B^T T^-1 B res, where T = A + B K_t B^T is banded as long as the
+    elements in it (the storeys) link DOFs within the band; the group's closed gaps, which
+    link buildings, enter by the Woodbury correction of T (m_g columns T^-1 b_g, an m_g x m_g
+    system).  Each iteration costs a few banded solves over the group's buildings instead of
+    a dense m x m factorisation and m^2 column products (derived here from the identity;
+    Golub & Van Loan 2013, Sec. 2.1.4).  The trial forces' deformations use
+    G F = B^T A^-1 (B F), one solve with A's factor.
+
+    el = (ne_dof, ne_coef, ne_code, ne_par, ne_gap); fac = (Lf, p, Aband, T, pT, dlo, dhi): A's
+    factor (half bandwidth p), A's unfactored band and the tangent's storage, (n, pT + 2), and
+    the group's DOF range; work = (z, x, resv, kt, Wt, Sg, yg, gpos).
+    Returns (converged, iterations beyond the first evaluation, tangent factor failed).
+    """
+    ne_dof, ne_coef, ne_code, ne_par, ne_gap = el
+    Lf, p, Aband, T, pT, dlo, dhi = fac
+    z, x, resv, kt, Wt, Sg, yg, gpos = work
+    it = 0
+    while True:
+        # the trial forces' deformations: dl - b^T A^-1 B Fm
+        for i in range(dlo, dhi):
+            z[i] = 0.0
+        for k in range(lo, hi):
+            _scatter(ne_dof, ne_coef, act[k], Fm[k], z)
+        _solve_range(Lf, p, z, z, dlo, dhi)
+        rn = 0.0
+        sc = scale
+        for k in range(lo, hi):
+            q = act[k]
+            s1 = _dot(ne_dof, ne_coef, q, z)
+            f, dfd, dfv = material_trial(ne_code[q], ne_par, st_c, st_t, q, dl[k] - s1, rl[k] - cc * s1)
+            resv[k] = Fm[k] - f
+            kt[k] = dfd + cc * dfv
+            rn = max(rn, abs(resv[k]))
+            sc = max(sc, abs(f))
+        if rn <= rtol * sc:
+            return True, it, False
+        if it >= max_iter:
+            return False, it, False
+        it += 1
+        # T = A + sum over the storeys of k_t b b^T, on the group's rows
+        for i in range(dlo, dhi):
+            for d in range(pT + 2):
+                T[i, d] = Aband[i, d]
+        m_g = 0
+        for k in range(lo, hi):
+            q = act[k]
+            if ne_gap[q]:
+                gpos[m_g] = k
+                m_g += 1
+            else:
+                _add_to_band(ne_dof, ne_coef, q, kt[k], T)
+        if not _factor_band(T, pT, dlo, dhi):
+            return False, it, True
+        # x = (A + B K_t B^T)^-1 B res: T^-1, then the gaps' Woodbury correction
+        for i in range(dlo, dhi):
+            x[i] = 0.0
+        for k in range(lo, hi):
+            _scatter(ne_dof, ne_coef, act[k], resv[k], x)
+        _solve_range(T, pT, x, x, dlo, dhi)
+        if m_g > 0:
+            for j in range(m_g):
+                w = Wt[j]
+                for i in range(dlo, dhi):
+                    w[i] = 0.0
+                _scatter(ne_dof, ne_coef, act[gpos[j]], 1.0, w)
+                _solve_range(T, pT, w, w, dlo, dhi)
+            for a in range(m_g):
+                qa = act[gpos[a]]
+                ka = kt[gpos[a]]
+                for b in range(m_g):
+                    Sg[a, b] = ka * _dot(ne_dof, ne_coef, qa, Wt[b])
+                Sg[a, a] += 1.0
+                yg[a] = ka * _dot(ne_dof, ne_coef, qa, x)
+            _dense_solve(m_g, Sg, yg)
+            for j in range(m_g):
+                for i in range(dlo, dhi):
+                    x[i] -= yg[j] * Wt[j, i]
+        for k in range(lo, hi):
+            Fm[k] += -resv[k] + kt[k] * _dot(ne_dof, ne_coef, act[k], x)
+
+
+@njit(cache=True, inline="always")
+def _deformation(ne_dof, ne_coef, ne_size, q, u, du, v, c, gk, row):
+    """Deformation and rate of element q at u + du, v + c du; gk[row], gk[row + 1]: its ground terms.
+
+    (The rate's increment is c du, Newmark's gamma/(beta h) Du: a scale, not an array, since an
+    array argument built per call would be allocated per element and step.)
+    """
+    bdu = _dot(ne_dof, ne_coef, q, du)
+    return (_dot(ne_dof, ne_coef, q, u) + bdu - ne_size[q] + gk[row, q],
+            _dot(ne_dof, ne_coef, q, v) + c * bdu + gk[row + 1, q])
 
 
 @njit(cache=True)
@@ -214,7 +310,7 @@ def _screen(ne_gap, active, d0, r0, d1, r1, h, landed, target, land_too):
 @njit(cache=True)
 def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, dof_load, dof_motion, dof_infl,
                    ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi, state0, ag, moving, ne_ground,
-                   u_init, v_init, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store,
+                   u_init, v_init, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store, tangent, pT,
                    out_u, out_v, out_a, out_f, out_e, umax, fmax,
                    imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e, stats):
     """Integrate; fill the outputs; return (status, n_impacts, t_reached).
@@ -234,7 +330,21 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     ground acceleration, velocity and displacement (used when ``moving``);
     outputs as ``_kernel.integrate_kernel`` (out_f (nt, nn): every element's
     force; out_e (nt, 6) with the hysteretic energy).
+    tangent : a group of active elements that holds a storey iterates on the banded tangent
+    (``_newton_tangent``, half bandwidth pT with the storeys); False: every group on the dense
+    condensed system (``_newton``), the off switch the tests compare against.
     """
+    # arguments: alive for the whole call, so borrowed (``_borrow``: no reference counting in the loop)
+    ms_dof, ms_coef, ms_val, ms_a0 = borrow(ms_dof), borrow(ms_coef), borrow(ms_val), borrow(ms_a0)
+    le_dof, le_coef, le_k, le_c = borrow(le_dof), borrow(le_coef), borrow(le_k), borrow(le_c)
+    dof_load, dof_motion, dof_infl = borrow(dof_load), borrow(dof_motion), borrow(dof_infl)
+    ne_dof, ne_coef, ne_size, ne_code = borrow(ne_dof), borrow(ne_coef), borrow(ne_size), borrow(ne_code)
+    ne_par, ne_gap, ne_lo, ne_hi = borrow(ne_par), borrow(ne_gap), borrow(ne_lo), borrow(ne_hi)
+    ag, ne_ground, u_init, v_init = borrow(ag), borrow(ne_ground), borrow(u_init), borrow(v_init)
+    out_u, out_v, out_a, out_f = borrow(out_u), borrow(out_v), borrow(out_a), borrow(out_f)
+    out_e, umax, fmax, stats = borrow(out_e), borrow(umax), borrow(fmax), borrow(stats)
+    imp_gap, imp_t0, imp_v0, imp_vout = borrow(imp_gap), borrow(imp_t0), borrow(imp_v0), borrow(imp_vout)
+    imp_fmax, imp_dur, imp_zeta, imp_e = borrow(imp_fmax), borrow(imp_dur), borrow(imp_zeta), borrow(imp_e)
     n = u_init.size
     nn = ne_size.size
     nm = ag.shape[0]
@@ -276,6 +386,14 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     rl = np.empty(nw)
     resv = np.empty(nw)
     kt = np.empty(nw)
+    # the banded tangent's work (``_newton_tangent``)
+    Aband = np.zeros((n, pT + 2))
+    T = np.empty((n, pT + 2))
+    h_A = -1.0
+    zt = np.zeros(n)
+    xt = np.zeros(n)
+    Wt = np.zeros((nw, n))
+    gpos = np.empty(nw, np.int64)
     st_c = state0.copy()  # committed and trial states of the elements
     st_t = state0.copy()
     F = np.zeros(nn)  # element forces in equilibrium with (u, v)
@@ -296,6 +414,25 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     gk = np.zeros((4, nn))
     g_t = np.empty(nm)
     g_1 = np.empty(nm)
+    zero = np.zeros(n)
+    # the work arrays: owned by this tuple (kept alive to the end), used through borrowed aliases
+    owners = (L_lev, have_lev, h_lev, L_h, LM, u, v, a, Vv, Av, R0, Du, work, flin, flin1, W_lev, W_scr, Wok_lev,
+              Wok_scr, act, comp_off, Gm, Sm, ym, Fm, dl, rl, resv, kt, Aband, T, zt, xt, Wt, gpos, st_c, st_t, F,
+              F1, F_old, h_old, active, zeta, hsub, age, cur_imp, d0, r0, d1, r1, toggles, land_too, gk, g_t, g_1,
+              zero)
+    L_lev, have_lev, h_lev, L_h, LM = borrow(L_lev), borrow(have_lev), borrow(h_lev), borrow(L_h), borrow(LM)
+    u, v, a, Vv, Av, R0, Du = borrow(u), borrow(v), borrow(a), borrow(Vv), borrow(Av), borrow(R0), borrow(Du)
+    work, flin, flin1, W_lev, W_scr = borrow(work), borrow(flin), borrow(flin1), borrow(W_lev), borrow(W_scr)
+    Wok_lev, Wok_scr, act, comp_off = borrow(Wok_lev), borrow(Wok_scr), borrow(act), borrow(comp_off)
+    Gm, Sm, ym, Fm, dl, rl = borrow(Gm), borrow(Sm), borrow(ym), borrow(Fm), borrow(dl), borrow(rl)
+    resv, kt, Aband, T, zt, xt = borrow(resv), borrow(kt), borrow(Aband), borrow(T), borrow(zt), borrow(xt)
+    Wt, gpos, st_c, st_t, F, F1 = borrow(Wt), borrow(gpos), borrow(st_c), borrow(st_t), borrow(F), borrow(F1)
+    F_old, h_old, active, zeta = borrow(F_old), borrow(h_old), borrow(active), borrow(zeta)
+    hsub, age, cur_imp, d0, r0 = borrow(hsub), borrow(age), borrow(cur_imp), borrow(d0), borrow(r0)
+    d1, r1, toggles, land_too, gk = borrow(d1), borrow(r1), borrow(toggles), borrow(land_too), borrow(gk)
+    g_t, g_1, zero = borrow(g_t), borrow(g_1), borrow(zero)
+    el = (ne_dof, ne_coef, ne_code, ne_par, ne_gap)
+    twork = (zt, xt, resv, kt, Wt, Sm, ym, gpos)
     for s in range(stats.size):
         stats[s] = 0
     n_imp = 0
@@ -309,7 +446,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
         _gap_ground_all(ne_ground, 0.0, dt, gk, GU0)
     m_act = 0
     for q in range(nn):
-        d0[q], r0[q] = _deformation(ne_dof, ne_coef, ne_size, q, u, u * 0.0, v, v * 0.0, gk, GU0)
+        d0[q], r0[q] = _deformation(ne_dof, ne_coef, ne_size, q, u, zero, v, 0.0, gk, GU0)
         if not ne_gap[q]:
             active[q] = True
         elif d0[q] > 0.0 or (d0[q] == 0.0 and r0[q] > 0.0):
@@ -323,15 +460,15 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
         if active[q]:
             act[m_act] = q
             m_act += 1
-            F[q] = material_trial(ne_code[q], ne_par[q], st_c[q], st_t[q], d0[q], r0[q])[0]
-            material_commit(st_c[q], st_t[q])
+            F[q] = material_trial(ne_code[q], ne_par, st_c, st_t, q, d0[q], r0[q])[0]
+            material_commit(st_c, st_t, q)
     n_comp = _group_contacts(m_act, act, ne_lo, ne_hi, comp_off)
     _ground_all(ag, t, dt, g_t)
     _acceleration(LM, p, lin, dof_load, dof_motion, g_t, u, v, ne_dof, ne_coef, F, flin, a)
     es_lin0 = strain_energy(le_dof, le_coef, le_k, u)
     rec0 = 0.0
     for q in range(nn):
-        rec0 += material_energy(ne_code[q], ne_par[q], st_c[q], d0[q])
+        rec0 += material_energy(ne_code[q], ne_par, st_c, q, d0[q])
     e_in = kinetic_energy(ms_dof, ms_coef, ms_val, v) + es_lin0 + rec0  # present at t = 0: input
     w_lin = 0.0  # work of the linear elements and dampers
     w_hys = 0.0  # work done on the hysteretic elements
@@ -398,35 +535,53 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
                 # ---- ITERATIONS: Newton on the active elements' forces, condensed through A^-1
                 converged = True
                 if m_act > 0:
-                    _columns(Lf, p, ne_dof, ne_coef, ne_lo, ne_hi, act, m_act, W, W_ok)
                     scale = 0.0
                     for i in range(n):
                         scale = max(scale, abs(R0[i]))
+                    it = 0
                     for c in range(n_comp):  # G is block diagonal over the groups
-                        for k in range(comp_off[c], comp_off[c + 1]):
+                        lo_c, hi_c = comp_off[c], comp_off[c + 1]
+                        banded = False
+                        dlo, dhi = n, 0
+                        for k in range(lo_c, hi_c):
                             q = act[k]
-                            dl[k], rl[k] = _deformation(ne_dof, ne_coef, ne_size, q, u, Du, Vv, cc * Du, gk, GU1)
-                            for r in range(comp_off[c], comp_off[c + 1]):
-                                Gm[k, r] = _dot(ne_dof, ne_coef, q, W[act[r]])
+                            banded = banded or (tangent and not ne_gap[q])
+                            dlo, dhi = min(dlo, ne_lo[q]), max(dhi, ne_hi[q])
+                            dl[k], rl[k] = _deformation(ne_dof, ne_coef, ne_size, q, u, Du, Vv, cc, gk, GU1)
                             Fm[k] = F[q]
                             if ne_gap[q] and age[q] >= 1:  # along the impact's last substep
                                 Fm[k] += (F[q] - F_old[q]) * (h / h_old[q])
-                    it = 0
-                    for c in range(n_comp):
-                        ok_c, it_c = _newton(comp_off[c], comp_off[c + 1], act, Gm, dl, rl, Fm, cc, ne_code, ne_par,
-                                             st_c, st_t, scale, rtol, max_iter, resv, kt, Sm, ym)
+                        if banded:
+                            if h != h_A:  # A's band at this step size, the tangent's starting point
+                                assemble_band(cm, cc, 1.0, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k,
+                                              le_c, pT, Aband)
+                                h_A = h
+                            ok_c, it_c, _ = _newton_tangent(lo_c, hi_c, act, el, dl, rl, Fm, cc, st_c, st_t,
+                                                            (Lf, p, Aband, T, pT, dlo, dhi), twork, scale, rtol,
+                                                            max_iter)
+                        else:
+                            _columns(Lf, p, ne_dof, ne_coef, ne_lo, ne_hi, act[lo_c:hi_c], hi_c - lo_c, W, W_ok)
+                            for k in range(lo_c, hi_c):
+                                for r in range(lo_c, hi_c):
+                                    Gm[k, r] = _dot(ne_dof, ne_coef, act[k], W[act[r]])
+                            ok_c, it_c = _newton(lo_c, hi_c, act, Gm, dl, rl, Fm, cc, ne_code, ne_par,
+                                                 st_c, st_t, scale, rtol, max_iter, resv, kt, Sm, ym)
                         it = max(it, it_c)
                         converged = converged and ok_c
                         if not ok_c:
                             break
+                        # the step with the group's forces: Du -= A^-1 B F (zt holds it after _newton_tangent)
+                        for k in range(lo_c, hi_c):
+                            q = act[k]
+                            F1[q] = Fm[k]
+                            if not banded and Fm[k] != 0.0:
+                                for i in range(ne_lo[q], ne_hi[q]):
+                                    Du[i] -= Fm[k] * W[q, i]
+                        if banded:
+                            for i in range(dlo, dhi):
+                                Du[i] -= zt[i]
                     stats[S_ITERATIONS] += it
                     stats[S_MAX_ITER] = max(stats[S_MAX_ITER], it)
-                    for k in range(m_act):
-                        q = act[k]
-                        F1[q] = Fm[k]
-                        if Fm[k] != 0.0:
-                            for i in range(ne_lo[q], ne_hi[q]):
-                                Du[i] -= Fm[k] * W[q, i]
                 if not converged:
                     stats[S_REJECTED] += 1
                     h *= 0.25
@@ -437,7 +592,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
                 # ---- EVENT SCREEN: does a gap touch or separate inside the step?
                 for q in range(nn):
                     if ne_gap[q]:
-                        d1[q], r1[q] = _deformation(ne_dof, ne_coef, ne_size, q, u, Du, Vv, cc * Du, gk, GU1)
+                        d1[q], r1[q] = _deformation(ne_dof, ne_coef, ne_size, q, u, Du, Vv, cc, gk, GU1)
                 landed = False
                 if target >= 0:
                     landed = abs(d1[target]) <= LAND_TOL * max(abs(r1[target]), abs(r0[target])) * h + 1e-15
@@ -513,6 +668,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
                     d0[q] = _dot(ne_dof, ne_coef, q, u) - ne_size[q]
             _output(step, store, u, v, a, g_t, dof_motion, dof_infl, F, lin, ne_code, ne_par, ne_gap, st_c, d0,
                     es_lin0, rec0, e_in, w_lin, w_hys, e_cont, out_u, out_v, out_a, out_f, out_e, umax, fmax, False)
+    keep_alive(owners)
     return OK, n_imp, t
 
 
@@ -549,7 +705,7 @@ def _accept(h, cm, cc, lin, dof_load, dof_motion, ne_dof, ne_coef, ne_gap, act, 
             w_hys += work
             fmax[q] = max(fmax[q], abs(F1[q]))
         F[q] = F1[q]
-        material_commit(st_c[q], st_t[q])
+        material_commit(st_c, st_t, q)
     return e_in, w_lin, w_hys, e_cont
 
 
@@ -573,7 +729,7 @@ def _output(k, store, u, v, a, g, dof_motion, dof_infl, F, lin, ne_code, ne_par,
     for q in range(F.size):
         out_f[k, q] = F[q]
         if not ne_gap[q]:
-            rec += material_energy(ne_code[q], ne_par[q], st_c[q], delta[q])
+            rec += material_energy(ne_code[q], ne_par, st_c, q, delta[q])
     es_lin = strain_energy(le_dof, le_coef, le_k, u)
     out_e[k, E_INPUT] = e_in
     out_e[k, E_KINETIC] = kinetic_energy(ms_dof, ms_coef, ms_val, v)

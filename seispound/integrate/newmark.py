@@ -136,7 +136,7 @@ def _exact_coefficients(basis, dt):
 def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newmark | None = None,
               impact_capacity: int | None = None, store_history: bool = True,
               free_flight: bool = True, multirate: bool = True, wait_share: float = WAIT_SHARE,
-              scheme: str = "exact", driver: str = "auto") -> RawResult:
+              scheme: str = "exact", driver: str = "auto", tangent: bool = True) -> RawResult:
     """Integrate a row of buildings under one (or one per DOF group) ground motion.
 
     Parameters
@@ -190,6 +190,12 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         optimisation off) when the row needs it
         (``SystemArrays.needs_general_driver``).  "general" forces the
         general driver on any row: the off switch the tests compare against.
+    tangent : bool
+        General driver: the Newton iteration of a group that holds storeys
+        with history runs on the banded tangent stiffness (default;
+        ``_general._newton_tangent``).  False: on the dense condensed system
+        of the group's forces, the off switch the tests compare against (the
+        two agree to the Newton tolerance ``rtol``).
 
     Returns
     -------
@@ -203,7 +209,8 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         raise ValueError("this row needs the general driver (storeys with history, coupled masses, "
                          "three-DOF elements or gaps against storeys)")
     if driver == "general" or (driver == "auto" and system.needs_general_driver):
-        return _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capacity, store_history)
+        return _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capacity, store_history,
+                                  tangent)
     if scheme not in ("exact", "newmark"):
         raise InputError(f'scheme must be "exact" or "newmark", got {scheme!r}', key="analysis.scheme")
     if not 0.0 <= wait_share <= 1.0:
@@ -346,7 +353,8 @@ def _element_ranges(tab, n):
     return ne_lo, ne_hi
 
 
-def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capacity, store_history) -> RawResult:
+def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capacity, store_history,
+                       tangent=True) -> RawResult:
     """``integrate`` on the general driver (``_general.py``): Newmark throughout, every law through the
     material protocol."""
     from . import _general as G
@@ -373,6 +381,9 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     cap = impact_capacity or max(256, nsteps // 4 + 16 * max(len(live), 1))
     nt = nsteps + 1 if store_history else 1
     ne_lo, ne_hi = _element_ranges(tab, n)
+    from ._elements import bandwidth
+
+    p_tangent = max(int(tab["p"]), bandwidth(n, tab["ne_dof"][~ne_gap]))  # the band with the storeys in it
     def run(cap):
         out = dict(out_u=np.zeros((nt, n)), out_v=np.zeros((nt, n)), out_a=np.zeros((nt, n)),
                    out_f=np.zeros((nt, nn)), out_e=np.zeros((nt, 6)), umax=np.zeros(n), fmax=np.zeros(nn),
@@ -383,7 +394,7 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
             tab["ne_dof"], tab["ne_coef"], tab["ne_size"], tab["ne_code"], tab["ne_par"], ne_gap, ne_lo, ne_hi,
             np.zeros((nn, N_STATE)), ag, moving, ground, np.asarray(system.u0, float), np.asarray(system.v0, float),
             float(dt), int(nsteps), float(nm.beta), float(nm.gamma), int(nm.contact_substeps), float(nm.rtol),
-            int(nm.max_iter), bool(store_history), **out), out)
+            int(nm.max_iter), bool(store_history), bool(tangent), int(p_tangent), **out), out)
 
     n_imp, out = _run_growing(run, cap)
     gap_cols = np.flatnonzero(ne_gap)

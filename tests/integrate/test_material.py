@@ -28,10 +28,10 @@ def test_contact_laws_through_the_protocol(law):
     material_onset(code, par, 0.4, state)
     zeta, e = _scalar.onset_state(code, par, 0.4)
     assert (state[ST_ZETA], state[ST_E]) == (zeta, e)
-    trial = np.empty(N_STATE)
-    got = material_trial(code, par, state, trial, 1e-4, 0.2)
+    trial = np.empty((1, N_STATE))
+    got = material_trial(code, par[None], state[None], trial, 0, 1e-4, 0.2)
     assert got == _scalar.contact_force(code, par, 1e-4, 0.2, zeta)
-    assert np.array_equal(trial, state)  # contact laws carry no history within an impact
+    assert np.array_equal(trial[0], state)  # contact laws carry no history within an impact
 
 
 def _masing_reference(delta):
@@ -52,14 +52,14 @@ def _masing_reference(delta):
 def test_bilinear_loops_under_imposed_cyclic_drift_equal_masing_rule():
     t = np.linspace(0.0, 4.0, 4001)
     delta = 0.004 * (1 + t) * np.sin(2 * math.pi * t)  # 4 mm growing to 20 mm: elastic, then yielding
-    par = _bilinear_par()
-    committed, trial = np.zeros(N_STATE), np.zeros(N_STATE)
+    par = _bilinear_par()[None]  # the protocol takes tables, one row per element
+    committed, trial = np.zeros((1, N_STATE)), np.zeros((1, N_STATE))
     force = np.zeros(t.size)
     for i in range(1, t.size):
         # a trial that is abandoned (a redone step) must leave no trace
-        material_trial(BILINEAR, par, committed, trial, 10.0 * delta[i], 0.0)
-        force[i], kt, _ = material_trial(BILINEAR, par, committed, trial, delta[i], 0.0)
-        material_commit(committed, trial)
+        material_trial(BILINEAR, par, committed, trial, 0, 10.0 * delta[i], 0.0)
+        force[i], kt, _ = material_trial(BILINEAR, par, committed, trial, 0, delta[i], 0.0)
+        material_commit(committed, trial, 0)
         assert kt in (K, ALPHA * K)
     ref = _masing_reference(delta)
     print(f"MEASURED bilinear against Masing's rule: {np.abs(force - ref).max() / FY:.1e} of fy")
@@ -71,12 +71,12 @@ def test_bilinear_dissipates_the_closed_form_per_cycle():
     A = 0.02
     t = np.linspace(0.0, 2.0, 200001)
     delta = A * np.sin(2 * math.pi * t)
-    par = _bilinear_par()
-    committed, trial = np.zeros(N_STATE), np.zeros(N_STATE)
+    par = _bilinear_par()[None]
+    committed, trial = np.zeros((1, N_STATE)), np.zeros((1, N_STATE))
     force = np.zeros(t.size)
     for i in range(1, t.size):
-        force[i] = material_trial(BILINEAR, par, committed, trial, delta[i], 0.0)[0]
-        material_commit(committed, trial)
+        force[i] = material_trial(BILINEAR, par, committed, trial, 0, delta[i], 0.0)[0]
+        material_commit(committed, trial, 0)
     second = t >= 1.0  # the stabilised cycle
     area = np.sum(0.5 * (force[second][1:] + force[second][:-1]) * np.diff(delta[second]))
     closed = (1 - ALPHA) * 4 * FY * (A - FY / K)

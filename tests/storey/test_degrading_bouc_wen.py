@@ -46,12 +46,13 @@ def _package(t_eval, dnu, deta):
     par = np.zeros(N_PAR)
     par[[C.BW_K, C.BW_DY, C.BW_ALPHA, C.BW_N, C.BW_BETA, C.BW_GAMMA, C.BW_DNU, C.BW_DETA]] = \
         K, DY, ALPHA, N_EXP, BETA, GAMMA, dnu, deta
-    committed, trial = np.zeros(N_STATE), np.zeros(N_STATE)
+    par = par[None]  # the protocol takes tables, one row per element
+    committed, trial = np.zeros((1, N_STATE)), np.zeros((1, N_STATE))
     d, _ = _drift(t_eval)
     out = np.zeros(t_eval.size)
     for i, x in enumerate(d):
-        out[i] = material_trial(C.BOUC_WEN, par, committed, trial, x, 0.0)[0]
-        material_commit(committed, trial)
+        out[i] = material_trial(C.BOUC_WEN, par, committed, trial, 0, x, 0.0)[0]
+        material_commit(committed, trial, 0)
     return out, committed, par, d[-1]
 
 
@@ -73,5 +74,5 @@ def test_degradation_lowers_strength_cycle_by_cycle():
     print(f"MEASURED peak force per cycle at ductility 4: {[f'{p / 1e6:.3f}' for p in peaks]} MN (plain "
           f"{np.max(plain[t >= 3]) / 1e6:.3f})")
     assert peaks[0] > peaks[1] > peaks[2] and peaks[2] < 0.97 * np.max(plain[t >= 3])
-    assert state[2] > 0  # the energy measure grew
-    assert material_energy(C.BOUC_WEN, par, state, d_end) > 0
+    assert state[0, 2] > 0  # the energy measure grew
+    assert material_energy(C.BOUC_WEN, par, state, 0, d_end) > 0

@@ -43,11 +43,11 @@ def test_loops_under_imposed_cyclic_drift_equal_the_twin(kind, n):
 
     law = _law(kind, n or 2.0)
     code, par = law.kernel_rows([K], 44)
-    committed, trial = np.zeros(N_STATE), np.zeros(N_STATE)
+    committed, trial = np.zeros((1, N_STATE)), np.zeros((1, N_STATE))
     force = np.zeros(t.size)
     for i in range(1, t.size):
-        force[i] = material_trial(code[0], par[0], committed, trial, drift(t[i])[0], 0.0)[0]
-        material_commit(committed, trial)
+        force[i] = material_trial(code[0], par[:1], committed, trial, 0, drift(t[i])[0], 0.0)[0]
+        material_commit(committed, trial, 0)
     ref = twin.simulate([1.0], [_twin_law(kind, n=n or 2.0)], 0.0, 0.0, None, t[-1], t, drift=drift, rtol=1e-11)
     err = np.abs(force - ref["f"][:, 0]).max() / np.abs(ref["f"]).max()
     print(f"MEASURED {kind} n={n}: loop force against the twin {err:.1e} of the peak force")

@@ -73,6 +73,13 @@ def test_a_run_stores_foundation_motion_and_drift_as_storey_deformation(tmp_path
     rock = ds.foundation_rocking.sel(building="A")
     assert float(abs(sway).max()) > 0 and float(abs(rock).max()) > 0
     assert bool(np.isnan(ds.foundation_sway.sel(building="B")).all())
+    # the rocking cone's internal DOF is no floor: A's 4 floors, then NaN up to B's 8; the summary's floors likewise
+    assert ds.sizes["floor"] == 8 and list(ds.floor.values) == list(range(1, 9))
+    peak = ds.peak_displacement.sel(building="A").values
+    assert np.isfinite(peak[:4]).all() and np.isnan(peak[4:]).all()
+    from seispound.cli import summary
+
+    assert "floor 0" not in summary(ds)
     u = ds.displacement.sel(building="A")
     # drift of storey 1 = w1 - u0 - h1 theta; storey 2 = w2 - w1 - h theta
     np.testing.assert_allclose(ds.drift.sel(building="A", floor=1), u.sel(floor=1) - sway - 3.0 * rock, atol=1e-15)

@@ -31,7 +31,8 @@ an added mass at low frequency whose damping grows as w^3, and a dashpot c above
 
    Wolf's closed form of the rotational cone, k(b0) = 1 - b0^2 / (3 (1 + b0^2)), c(b0) = b0^2 /
    (3 (1 + b0^2)): the radiation damping vanishes as w^3 at low frequency and tends to C_t at high
-   frequency.  The library's rocking dashpot acts straight to ground at every frequency.
+   frequency.  The library now uses the same rotational cone on soil (``seispound.foundation.rocking_cone``,
+   issue 30 item 4); this generator keeps its own copy, written apart from the package.
    Footing: a rectangle (L along the row, B across), equivalent discs r_x = sqrt(L B / pi),
    r_t = (4 I / pi)^(1/4) with I = B L^3 / 12.
 

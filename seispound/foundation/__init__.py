@@ -1,5 +1,5 @@
-"""Flexible foundations: a rigid footing that sways and rocks on the soil (springs and dashpots)."""
+"""Flexible foundations: a rigid footing that sways and rocks on the soil (springs, dashpots, Wolf's cones)."""
 
-from .model import Foundation, Footing, Soil, cone_impedances
+from .model import Foundation, Footing, Soil, cone_impedances, rocking_cone, rocking_cone_dynamic_stiffness
 
-__all__ = ["Foundation", "Footing", "Soil", "cone_impedances"]
+__all__ = ["Foundation", "Footing", "Soil", "cone_impedances", "rocking_cone", "rocking_cone_dynamic_stiffness"]

@@ -11,7 +11,11 @@ Sec. 2.2, in total coordinates so that the mass matrix stays diagonal); the
 soil is a spring and a dashpot on u0 and on theta; the building's
 mass-proportional Rayleigh damping acts on the floors' motion relative to the
 foundation's rigid-body motion (a dashpot on w_i - u0 - h_i theta), so the
-soil's damping is only the soil's.
+soil's damping is only the soil's.  A foundation on soil (``soil`` and ``footing``) adds a
+third DOF after the sway, the rocking cone's internal rotation (kind CONE; Wolf 1994, Ch. 2,
+``foundation.rocking_cone``): the rocking spring acts from theta to the ground and the rocking
+dashpot from theta to that DOF, which carries the cone's inertia rho I0 z0 and nothing else.
+It is neither a floor nor an output (the floors' sensors never read it).
 """
 
 from __future__ import annotations
@@ -21,7 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 # what a DOF is
-FLOOR, SWAY, ROCKING, NODE, ATTACHMENT = 0, 1, 2, 3, 4
+FLOOR, SWAY, ROCKING, NODE, ATTACHMENT, CONE = 0, 1, 2, 3, 4, 5
 LEFT, RIGHT = 0, 1
 
 
@@ -40,6 +44,7 @@ class Layout:
     sensor: dict = field(default_factory=dict)  # floor -> {dof: weight}: the floor's output point
     deformation: dict = field(default_factory=dict)  # floor -> {dof: weight}: the storey below's deformation
     foundation: tuple | None = None  # (rocking DOF, sway DOF)
+    cone: int = -1  # the rocking cone's internal DOF (-1: none)
     nodes: dict = field(default_factory=dict)  # floor -> list of its rod nodes' DOFs
     storey_of: list = field(default_factory=list)  # per element: the floor whose storey spring it is (0: none)
     body_mass: dict = field(default_factory=dict)  # floor -> its whole mass with attachments [kg]
@@ -66,7 +71,13 @@ def building_layout(b, start: int, n_par: int, faces=(True, True)) -> Layout:
         _dof(out, f.rocking_inertia(n), ROCKING, 0, 0.0, 0.0, 0.0)
         _dof(out, f.mass, SWAY, 0, 0.0, 0.0, 1.0)
         out.el.append((base, -1, -1, 0.0, imp["sway_stiffness"], 0.0, imp["sway_damping"], 0, None))
-        out.el.append((theta, -1, -1, 0.0, imp["rocking_stiffness"], 0.0, imp["rocking_damping"], 0, None))
+        if imp["rocking_cone_inertia"] > 0.0:  # Wolf's rotational cone: the dashpot acts through its own DOF
+            out.cone = start + 2
+            _dof(out, imp["rocking_cone_inertia"], CONE, 0, 0.0, 0.0, 0.0)
+            out.el.append((theta, -1, -1, 0.0, imp["rocking_stiffness"], 0.0, 0.0, 0, None))
+            out.el.append((out.cone, theta, -1, 0.0, 0.0, 0.0, imp["rocking_damping"], 0, None))
+        else:  # springs and dashpots given: both to the ground
+            out.el.append((theta, -1, -1, 0.0, imp["rocking_stiffness"], 0.0, imp["rocking_damping"], 0, None))
         out.foundation = (theta, base)
     out.face[(0, LEFT)] = out.face[(0, RIGHT)] = base
     rod = b.floor_model

@@ -72,7 +72,8 @@ class SystemArrays:
         Masses acting on several DOFs (a rigid body seen from them): each adds
         mass b b^T to the mass matrix, b = coefs at dofs, beyond the lumped ``mass``.
     dof_kind : (n,) int, optional
-        What each DOF is (``_layout``: FLOOR, SWAY, ROCKING); None: every DOF a floor.
+        What each DOF is (``_layout``: FLOOR, SWAY, ROCKING, NODE, ATTACHMENT, CONE the rocking
+        cone's internal DOF); None: every DOF a floor.
     outputs : FloorOutputs, optional
         How the floors' outputs follow from the DOFs when they are not the DOFs
         themselves (a foundation's DOFs, a rod floor's nodes); None: one DOF per floor.

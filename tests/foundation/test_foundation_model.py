@@ -31,17 +31,38 @@ def test_soil_and_footing_give_the_cone_impedances(tmp_path):
     assert f.rocking_inertia(4) == pytest.approx(1e6 + 4 * 5e5 + imp["trapped_rotary_inertia"])
     system = assemble(model.buildings, model.gaps, model.contact)
     assert system.needs_general_driver
-    assert system.n_dof == 4 + 2 + 8
+    assert system.n_dof == 4 + 3 + 8  # sway, rocking and the rocking cone's internal DOF
     np.testing.assert_array_equal(system.outputs.foundation, [[0, 1], [-1, -1]])
+    # the cone's DOF (2): its inertia rho I0 z0, the rocking dashpot from theta to it, no spring, no output
+    assert system.dof_kind[2] == 5 and system.mass[2] == pytest.approx(imp["rocking_cone_inertia"], rel=1e-15)
+    assert not system.outputs.sensor[:, 2].any() and not system.outputs.deformation[:, 2].any()
+    M, C, K = system.matrices()
+    assert not K[2].any() and C[2, 2] == pytest.approx(imp["rocking_damping"], rel=1e-15)
+    assert C[0, 2] == pytest.approx(-imp["rocking_damping"], rel=1e-15)
 
 
-def test_radiation_scales_the_cone_dashpots_only():
+def test_radiation_scales_the_cone_dashpots_and_the_rocking_cone_inertia_only():
     full = cone_impedances(Soil(150.0, 1800.0, 0.3), Footing(width=12.0, length=15.0))
     layer = cone_impedances(Soil(150.0, 1800.0, 0.3, radiation=0.25), Footing(width=12.0, length=15.0))
-    for k in ("sway_damping", "rocking_damping"):
+    for k in ("sway_damping", "rocking_damping", "rocking_cone_inertia"):
         assert layer[k] == pytest.approx(0.25 * full[k], rel=1e-15)
-    for k in ("sway_stiffness", "rocking_stiffness", "trapped_rotary_inertia"):
+    for k in ("sway_stiffness", "rocking_stiffness", "trapped_rotary_inertia", "rocking_apex_height"):
         assert layer[k] == full[k]
+
+
+@pytest.mark.parametrize("foundation, n_extra, rocking_c", [
+    (SOIL_FOUNDATION.replace("poisson = 0.35 }", "poisson = 0.3, radiation = 0.0 }"), 2, 0.0),
+    ('foundation = { mass = 2.0e5, rotary_inertia = 1.0e6, sway_stiffness = 1.0e9, sway_damping = 1.0e6, '
+     'rocking_stiffness = 1.0e11, rocking_damping = 3.0e8 }\n', 2, 3.0e8),
+])
+def test_without_a_cone_the_rocking_dashpot_acts_to_the_ground(tmp_path, foundation, n_extra, rocking_c):
+    """A site that radiates nothing (radiation 0), or springs and dashpots given: no internal DOF, as before."""
+    model = _model(tmp_path, foundation)
+    system = assemble(model.buildings, model.gaps, model.contact)
+    assert system.n_dof == 4 + n_extra + 8 and not np.any(system.dof_kind == 5)
+    el_c = np.zeros(system.el_i.size) if system.el_c is None else system.el_c
+    rock = (system.el_i == 0) & (system.el_j == -1)  # the rocking element: theta to the ground
+    assert el_c[rock].tolist() == [rocking_c] and system.el_k[rock][0] > 0
 
 
 def test_a_run_stores_foundation_motion_and_drift_as_storey_deformation(tmp_path):
@@ -52,6 +73,13 @@ def test_a_run_stores_foundation_motion_and_drift_as_storey_deformation(tmp_path
     rock = ds.foundation_rocking.sel(building="A")
     assert float(abs(sway).max()) > 0 and float(abs(rock).max()) > 0
     assert bool(np.isnan(ds.foundation_sway.sel(building="B")).all())
+    # the rocking cone's internal DOF is no floor: A's 4 floors, then NaN up to B's 8; the summary's floors likewise
+    assert ds.sizes["floor"] == 8 and list(ds.floor.values) == list(range(1, 9))
+    peak = ds.peak_displacement.sel(building="A").values
+    assert np.isfinite(peak[:4]).all() and np.isnan(peak[4:]).all()
+    from seispound.cli import summary
+
+    assert "floor 0" not in summary(ds)
     u = ds.displacement.sel(building="A")
     # drift of storey 1 = w1 - u0 - h1 theta; storey 2 = w2 - w1 - h theta
     np.testing.assert_allclose(ds.drift.sel(building="A", floor=1), u.sel(floor=1) - sway - 3.0 * rock, atol=1e-15)

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+import os
+import sys
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -133,6 +135,32 @@ def _exact_coefficients(basis, dt):
     return out
 
 
+# rough compile time of each driver on a first use (``python -m benchmarks.startup``): said before it starts
+COMPILE_SECONDS = {"fast": "about a minute", "general": "about a minute"}
+_ANNOUNCED: set = set()
+
+
+def announce_compile(kernel, driver: str, stream=None) -> bool:
+    """Say on stderr, once per process, that ``kernel`` is about to be compiled (nothing cached for it yet).
+
+    numba compiles a kernel on its first call and caches the machine code next to the
+    package (``cache=True``); only a first use after installing (or after the code
+    changed) compiles, which takes tens of seconds.  Returns True if it said so.
+    """
+    if driver in _ANNOUNCED or kernel.signatures:
+        return False
+    try:
+        cached = os.path.exists(kernel._cache._cache_file._index_path)
+    except AttributeError:  # a numba without this layout: say nothing rather than guess
+        cached = True
+    if cached:
+        return False
+    _ANNOUNCED.add(driver)
+    print(f"seispound: compiling the {driver} integrator (first use since installing; {COMPILE_SECONDS[driver]}, "
+          f"cached afterwards)", file=stream or sys.stderr, flush=True)
+    return True
+
+
 def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newmark | None = None,
               impact_capacity: int | None = None, store_history: bool = True,
               free_flight: bool = True, multirate: bool = True, wait_share: float = WAIT_SHARE,
@@ -256,6 +284,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
             out_a=hist[2 * nt * n:3 * nt * n].reshape(nt, n),
             out_f=hist[3 * nt * n:nt * (3 * n + ng)].reshape(nt, ng), out_e=hist[nt * (3 * n + ng):].reshape(nt, 6),
             umax=np.empty(n), fmax=np.empty(ng), **_catalogue(cap))
+        announce_compile(K.integrate_kernel, "fast")
         return (*K.integrate_kernel(
             system.mass, system.dof_a0, system.dof_motion, system.el_i, system.el_j, system.el_k,
             system.el_a1, int(system.bandwidth), system.u0, system.v0, gap_i, gap_j, gap_lo, gap_hi,
@@ -388,6 +417,7 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
         out = dict(out_u=np.zeros((nt, n)), out_v=np.zeros((nt, n)), out_a=np.zeros((nt, n)),
                    out_f=np.zeros((nt, nn)), out_e=np.zeros((nt, 6)), umax=np.zeros(n), fmax=np.zeros(nn),
                    **_catalogue(cap))
+        announce_compile(G.general_kernel, "general")
         return (*G.general_kernel(
             tab["ms_dof"], tab["ms_coef"], tab["ms_val"], tab["ms_a0"], tab["le_dof"], tab["le_coef"], tab["le_k"],
             tab["le_c"], int(tab["p"]), tab["dof_load"], system.dof_motion.astype(np.int64), tab["dof_infl"],

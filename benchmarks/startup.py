@@ -10,6 +10,7 @@ command 1, with the cache now filled, is timed for comparison.
 
 from __future__ import annotations
 
+import argparse
 import os
 import subprocess
 import sys
@@ -37,7 +38,8 @@ def _run(cmd, env, cwd):
     return time.perf_counter() - t0, p
 
 
-def main() -> int:
+def main(argv=None) -> int:
+    argparse.ArgumentParser(description=__doc__.splitlines()[0]).parse_args(argv)
     exe = Path(sys.executable).with_name("seispound")
     with tempfile.TemporaryDirectory() as tmp:
         env = dict(os.environ, NUMBA_CACHE_DIR=str(Path(tmp) / "cache"), PYTHONPATH=str(REPO))

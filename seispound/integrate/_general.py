@@ -22,7 +22,11 @@ with Jacobian I + diag(k_t) G (k_t the law's consistent tangent d f/d delta +
 gamma/(beta h) d f/d rate).  That is Newton-Raphson on the full residual
 restricted to the only DOFs where it is nonzero, so it converges as the
 full iteration does, and the linear part is never refactored for a yield.
-Columns A^-1 b_q are cached per factor.
+A group that holds storeys solves each Newton update through the banded tangent
+T = A + B K_t B^T instead of the dense I + K_t G (``_newton_tangent``: the same
+update by the push-through identity, a few banded solves per iteration; its closed
+gaps, which link buildings, by a Woodbury correction); a group of gaps alone uses
+G, whose columns A^-1 b_q are cached per factor (``_newton``).
 
 Each law is called through the material protocol (``_material.py``): a
 trial from the committed state (a redone step is another trial), committed

@@ -310,6 +310,10 @@ def summary(ds, out=None) -> str:
     lines.append(f"  {nb} buildings, {ng} gap elements, {ni} impacts, "
                  f"{float(ds.time[-1]):.3g} s at dt = {ds.attrs['dt']:g} s"
                  + (f" ({ds.attrs['scheme']} scheme)" if "scheme" in ds.attrs else ""))
+    if ds.attrs.get("driver") == "general":  # the scheme changed: say why and how it was kept accurate
+        n = int(ds.attrs.get("newmark_substeps", 1))
+        lines.append("  Newmark steps throughout (yielding storeys, a foundation or floor-to-storey gaps need the "
+                     f"general driver), {n} substep{'s' if n > 1 else ''} per analysis step")
     if ng:
         lines.append("  gap  between        floors  size [m]  impacts  peak force [kN]")
         for g in range(ng):

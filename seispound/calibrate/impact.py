@@ -248,14 +248,12 @@ def _fit_law(data, model, law, e, v_before, tf, dt_rec) -> LawFit:
             g["size"] = 0.0
             for key in ("law", "stiffness", "restitution", "tension", "damping_constant", "exponent"):
                 g.pop(key, None)
-        from ..integrate import integrate
         from ..model.toml_loader import parse_model
-        from ..simulation import run_inputs
+        from ..simulation import run_inputs, run_row
 
         m = parse_model(d, base=Path(model.source).parent if model.source else Path("."))
         system, motions = run_inputs(m)
-        an = m.analysis
-        return integrate(system, motions.rows, an.dt, an.nsteps, an.newmark, scheme="newmark")
+        return run_row(m, system, motions.rows, scheme="newmark")
 
     def excess(logk):
         return float(run(math.exp(logk)).peak_force[0]) - fpk

@@ -84,13 +84,11 @@ class Observer:
         return [self._one(t, self.model_for(t, overrides)) for t in self.trials]
 
     def _one(self, trial, model) -> dict:
-        from ..integrate import integrate
         from ..results.floors import floor_view
-        from ..simulation import run_inputs
+        from ..simulation import run_inputs, run_row
 
         system, motions = run_inputs(model)
-        an = model.analysis
-        raw = integrate(system, motions.rows, an.dt, an.nsteps, an.newmark, scheme=an.scheme)
+        raw = run_row(model, system, motions.rows)
         self.impact_times.append(np.sort(raw.impacts.get("t0", np.zeros(0))))
         view, floors = floor_view(raw, system)
         t_rec = trial.recording.time

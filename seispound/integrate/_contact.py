@@ -33,8 +33,11 @@ ONSET_GRADING = 6
 
 
 @njit(cache=True, inline="always")
-def _contact_step(t, t_end, dt, m_act, act_list, code, hsub, age, h_lev, n_lev):
+def _contact_step(t, t_end, dt, m_act, act_list, code, hsub, age, h_lev, n_lev, lev_min):
     """(h, lev): the next step inside the analysis step ending at t_end while gaps are closed.
+
+    No step is longer than h_lev[lev_min] (dt / 2^lev_min: the general driver's step for rows whose
+    Newmark steps need substeps to be accurate; 0 for none).
 
     Each closed gap asks for substeps of at most hsub (its impact's duration / n_sub), on
     the grid dt / 2^lev (h_lev[:n_lev]) so that each size is factored once; NIVe's first substeps are
@@ -44,7 +47,7 @@ def _contact_step(t, t_end, dt, m_act, act_list, code, hsub, age, h_lev, n_lev):
     """
     remaining = t_end - t
     h = remaining
-    lev = 0
+    lev = lev_min
     for q in range(m_act):
         g = act_list[q]
         lg = 0

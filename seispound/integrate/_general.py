@@ -314,7 +314,7 @@ def _screen(ne_gap, active, d0, r0, d1, r1, h, landed, target, land_too):
 @njit(cache=True)
 def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, dof_load, dof_motion, dof_infl,
                    ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi, state0, ag, moving, ne_ground,
-                   u_init, v_init, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store, tangent, pT,
+                   u_init, v_init, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store, tangent, pT, lev_free,
                    out_u, out_v, out_a, out_f, out_e, umax, fmax,
                    imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e, stats):
     """Integrate; fill the outputs; return (status, n_impacts, t_reached).
@@ -334,6 +334,8 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     ground acceleration, velocity and displacement (used when ``moving``);
     outputs as ``_kernel.integrate_kernel`` (out_f (nt, nn): every element's
     force; out_e (nt, 6) with the hysteretic energy).
+    lev_free : no step longer than dt / 2^lev_free (substeps that make Newmark accurate at the
+    analysis step: ``newmark.free_substeps``).
     tangent : a group of active elements that holds a storey iterates on the banded tangent
     (``_newton_tangent``, half bandwidth pT with the storeys); False: every group on the dense
     condensed system (``_newton``), the off switch the tests compare against.
@@ -486,7 +488,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
         t_end = (step + 1) * dt
         while t_end - t > 1e-9 * dt:
             # ---- step size: the rest of the analysis step, or the contact substep grid
-            h, lev = _contact_step(t, t_end, dt, m_act, act, ne_code, hsub, age, h_lev, N_LEVELS)
+            h, lev = _contact_step(t, t_end, dt, m_act, act, ne_code, hsub, age, h_lev, N_LEVELS, lev_free)
             target = -1
             landed = False
             located = False

@@ -164,7 +164,8 @@ def announce_compile(kernel, driver: str, stream=None) -> bool:
 def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newmark | None = None,
               impact_capacity: int | None = None, store_history: bool = True,
               free_flight: bool = True, multirate: bool = True, wait_share: float = WAIT_SHARE,
-              scheme: str = "exact", driver: str = "auto", tangent: bool = True) -> RawResult:
+              scheme: str = "exact", driver: str = "auto", tangent: bool = True,
+              substeps: int | None = None) -> RawResult:
     """Integrate a row of buildings under one (or one per DOF group) ground motion.
 
     Parameters
@@ -238,7 +239,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
                          "three-DOF elements or gaps against storeys)")
     if driver == "general" or (driver == "auto" and system.needs_general_driver):
         return _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capacity, store_history,
-                                  tangent)
+                                  tangent, substeps)
     if scheme not in ("exact", "newmark"):
         raise InputError(f'scheme must be "exact" or "newmark", got {scheme!r}', key="analysis.scheme")
     if not 0.0 <= wait_share <= 1.0:
@@ -383,7 +384,7 @@ def _element_ranges(tab, n):
 
 
 def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capacity, store_history,
-                       tangent=True) -> RawResult:
+                       tangent=True, substeps=None) -> RawResult:
     """``integrate`` on the general driver (``_general.py``): Newmark throughout, every law through the
     material protocol."""
     from . import _general as G
@@ -413,6 +414,7 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     from ._elements import bandwidth
 
     p_tangent = max(int(tab["p"]), bandwidth(n, tab["ne_dof"][~ne_gap]))  # the band with the storeys in it
+    lev_free = int(round(math.log2(substeps))) if substeps else 0
     def run(cap):
         out = dict(out_u=np.zeros((nt, n)), out_v=np.zeros((nt, n)), out_a=np.zeros((nt, n)),
                    out_f=np.zeros((nt, nn)), out_e=np.zeros((nt, 6)), umax=np.zeros(n), fmax=np.zeros(nn),
@@ -424,7 +426,7 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
             tab["ne_dof"], tab["ne_coef"], tab["ne_size"], tab["ne_code"], tab["ne_par"], ne_gap, ne_lo, ne_hi,
             np.zeros((nn, N_STATE)), ag, moving, ground, np.asarray(system.u0, float), np.asarray(system.v0, float),
             float(dt), int(nsteps), float(nm.beta), float(nm.gamma), int(nm.contact_substeps), float(nm.rtol),
-            int(nm.max_iter), bool(store_history), bool(tangent), int(p_tangent), **out), out)
+            int(nm.max_iter), bool(store_history), bool(tangent), int(p_tangent), lev_free, **out), out)
 
     n_imp, out = _run_growing(run, cap)
     gap_cols = np.flatnonzero(ne_gap)

@@ -57,7 +57,8 @@ Attributes
     schema, schema_version, title, seispound_version, created_utc, model_file,
     model_text, record (JSON provenance; "none" for free vibration), contact_law,
     dt, duration, newmark_beta, newmark_gamma, scheme (the one used: "newmark" on the general driver),
-    driver ("fast" or "general": ``seispound.integrate.integrate``), integrator_stats (JSON), building_ground_motion (JSON:
+    driver ("fast" or "general": ``seispound.integrate.integrate``), newmark_substeps (the general
+    driver's Newmark substeps per analysis step, ``simulation.newmark_substeps``; 1 on the fast one), integrator_stats (JSON), building_ground_motion (JSON:
     each building with a motion of its own: record, delay, filter).
 """
 
@@ -329,6 +330,7 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
         newmark_gamma=float(nm.gamma),
         scheme=model.analysis.scheme if raw.driver == "fast" else "newmark",
         driver=raw.driver,
+        newmark_substeps=int(raw.stats.get("newmark_substeps", 1)),
         integrator_stats=json.dumps(raw.stats),
         sign_convention="x positive from left building to right; penetration = u_left - u_right - gap",
     )

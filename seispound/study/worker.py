@@ -43,16 +43,14 @@ def _storeys(model, system):
 
 def twin_task(study, index: int) -> dict:
     """The no-pounding twin of run ``index``'s group: its peaks per DOF (results/peaks.py), or its error."""
-    from ..integrate import integrate
     from ..results.floors import floor_view
     from ..results.peaks import dof_peaks
-    from ..simulation import run_inputs
+    from ..simulation import run_inputs, run_row
 
     try:
         model = study.model_for(index)
         system, motions = run_inputs(model)
-        an = model.analysis
-        raw = integrate(system.without_contact(), motions.rows, an.dt, an.nsteps, an.newmark, scheme=an.scheme)
+        raw = run_row(model, system.without_contact(), motions.rows)
         raw, floors = floor_view(raw, system)
         return {"peaks": dof_peaks(raw, *_storeys(model, floors)), "error": ""}
     except Exception as exc:  # a bad record fails every run of its group, not the study
@@ -61,10 +59,9 @@ def twin_task(study, index: int) -> dict:
 
 def run_one(study, index: int, twin: dict) -> dict:
     """Run ``index`` of the study: its summaries (and kept histories) as arrays, or its error."""
-    from ..integrate import integrate
     from ..results.floors import floor_view
     from ..results.peaks import amplifications, dof_peaks, drift_history
-    from ..simulation import run_inputs
+    from ..simulation import run_inputs, run_row
 
     out = {"index": int(index), "status": STATUS_FAILED, "error": ""}
     if twin.get("error"):
@@ -73,8 +70,7 @@ def run_one(study, index: int, twin: dict) -> dict:
     try:
         model = study.model_for(index)
         system, motions = run_inputs(model)
-        an = model.analysis
-        raw = integrate(system, motions.rows, an.dt, an.nsteps, an.newmark, scheme=an.scheme)
+        raw = run_row(model, system, motions.rows)
     except Exception as exc:
         out["error"] = _error_text(exc)
         return out

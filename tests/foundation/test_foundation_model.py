@@ -94,16 +94,19 @@ def test_a_run_stores_foundation_motion_and_drift_as_storey_deformation(tmp_path
 
 def test_a_stiff_foundation_approaches_the_fixed_base(tmp_path):
     """Springs 1e6 times the storeys' and a light foundation: the floors move as on a fixed base."""
-    model = load_model(short_copy(tmp_path, 4.0))
-    model.analysis.scheme = "newmark"  # as the general driver steps
-    fixed = simulate(model, twin=False)
     stiff = ('foundation = { mass = 1.0e3, rotary_inertia = 1.0e3, sway_stiffness = 1.0e14, sway_damping = 0.0, '
              'rocking_stiffness = 1.0e16, rocking_damping = 0.0 }\n')
     flex = simulate(_model(tmp_path, stiff), twin=False)
-    u0, u1 = fixed.displacement.sel(building="A"), flex.displacement.sel(building="A")
+    n = flex.attrs["newmark_substeps"]  # the general driver's Newmark substeps: the fixed base steps alike
+    model = load_model(short_copy(tmp_path, 4.0))
+    model.analysis.scheme = "newmark"  # as the general driver steps
+    model.analysis.dt /= n
+    fixed = simulate(model, twin=False)
+    u0 = fixed.displacement.sel(building="A").isel(time=slice(0, None, n))
+    u1 = flex.displacement.sel(building="A")
     err = float(abs(u1 - u0).max() / abs(u0).max())
     print(f"MEASURED stiff foundation against the fixed base: {err:.1e} of the peak displacement")
-    assert err <= 1e-3
+    assert err <= 1e-5  # measured 2.4e-6 (springs 1e6 times the storeys': a residual flexibility of 1e-6)
 
 
 @pytest.mark.parametrize("table, key", [

@@ -1,0 +1,102 @@
+"""The general driver's Newmark substeps (``simulation.newmark_substeps``): decided by the model, said by the
+run, and what they buy.
+
+The accuracy check compares a run at the analysis step with one at a tenth of it (the same code
+converged in time): a self-convergence check, a regression guard of the rule's effect, not a
+verification of the physics (``tests/verification`` holds those).
+"""
+
+import warnings
+
+import numpy as np
+
+import seispound as sp
+from seispound.cli import summary
+from seispound.simulation import MAX_NEWMARK_SUBSTEPS, NEWMARK_THETA, _run_inputs, newmark_substeps
+from tests._models import REPO
+
+PAIR = """
+[analysis]
+dt = {dt}
+duration = 6.0
+[ground_motion]
+file = "{record}"
+units = "g"
+scale = 1.5
+[contact]
+law = "Hd"
+stiffness = 2.75e9
+restitution = 0.65
+[[building]]
+name = "A"
+floors = 5
+floor_masses = 1.0e5
+storey_stiffness = 1.2e8
+storey_heights = 3.0
+damping = {{ kind = "rayleigh", ratio = 0.05, modes = [1, 2] }}
+{law}
+[[building]]
+name = "B"
+floors = 8
+floor_masses = 1.0e5
+storey_stiffness = 1.1e8
+storey_heights = 3.0
+damping = {{ kind = "rayleigh", ratio = 0.05, modes = [1, 2] }}
+{law}
+[[gap]]
+between = ["A", "B"]
+size = 0.02
+"""
+BILINEAR = 'storey_law = { kind = "bilinear", yield_drift = 0.008, post_yield_ratio = 0.05 }'
+
+
+def _model(tmp_path, dt, law=BILINEAR, name="pair.toml"):
+    rec = (REPO / "ground_motions" / "RSN6_IMPVALL.I_I-ELC180-hor1.AT2").as_posix()
+    f = tmp_path / name
+    f.write_text(PAIR.format(dt=dt, record=rec, law=law))
+    return sp.load_model(f)
+
+
+def test_the_rule_follows_the_highest_storey_frequency(tmp_path):
+    m = _model(tmp_path, 0.005)
+    _, system, _ = _run_inputs(m)
+    w_hi = max(b.modes()[0].max() for b in m.buildings)
+    n = newmark_substeps(m, system)
+    assert n == 2 and w_hi * 0.005 / n <= NEWMARK_THETA < w_hi * 0.005  # 0.33 rad at 5 ms: two substeps
+    m.analysis.dt = 0.05
+    assert newmark_substeps(m, system) == MAX_NEWMARK_SUBSTEPS  # capped
+    elastic = _model(tmp_path, 0.005, law="", name="elastic.toml")
+    assert newmark_substeps(elastic, _run_inputs(elastic)[1]) == 1  # the fast driver is exact between impacts
+
+
+def test_the_run_says_it_steps_by_newmark_with_substeps(tmp_path):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ds = sp.simulate(_model(tmp_path, 0.005), twin=False)
+    assert ds.attrs["driver"] == "general" and ds.attrs["scheme"] == "newmark" and ds.attrs["newmark_substeps"] == 2
+    assert "Newmark steps throughout" in summary(ds) and "2 substeps per analysis step" in summary(ds)
+
+
+def test_substeps_bring_floor_accelerations_near_the_converged_run(tmp_path):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ref = sp.simulate(_model(tmp_path, 0.0005, name="ref.toml"), twin=False)
+        m = _model(tmp_path, 0.005)
+        ds = sp.simulate(m, twin=False)
+        from seispound import simulation
+
+        one = simulation.MAX_NEWMARK_SUBSTEPS
+        try:
+            simulation.MAX_NEWMARK_SUBSTEPS = 1  # the step alone, as before the rule
+            plain = sp.simulate(m, twin=False)
+        finally:
+            simulation.MAX_NEWMARK_SUBSTEPS = one
+    a_ref = np.nan_to_num(ref.acceleration.values[::10])
+
+    def ne(x):
+        a = np.nan_to_num(x.acceleration.values)
+        return float(np.linalg.norm(a - a_ref) / np.linalg.norm(a_ref))
+
+    print(f"MEASURED floor-acceleration NE at 5 ms against 0.5 ms: {100 * ne(ds):.2f} % with "
+          f"{ds.attrs['newmark_substeps']} substeps, {100 * ne(plain):.2f} % without")
+    assert ne(ds) <= 0.005 and ne(plain) >= 2.5 * ne(ds)

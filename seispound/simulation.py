@@ -159,7 +159,9 @@ def prepare_ground_motions(model) -> GroundMotions:
             continue
         key = f"building.{b.name}.ground_motion"
         base, bprov = (ag, prov) if m.record is None else _prepare_record(m.record, model, key)
-        samples, steps = variant(base, model.analysis.dt, m.delay, m.lowpass, m.lowpass_order, key=key)
+        own = bprov.get("dt_original") if isinstance(bprov, dict) else None  # the record's step: its arrival
+        samples, steps = variant(base, model.analysis.dt, m.delay, m.lowpass, m.lowpass_order, key=key,
+                                 rise=float(own) if own else 0.0)
         same = [r for r, x in enumerate(rows) if np.array_equal(x, samples)]
         if same:
             row_of.append(same[0])

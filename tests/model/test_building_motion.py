@@ -26,9 +26,27 @@ def test_apparent_velocity_gives_each_building_position_over_velocity(tmp_path):
     own = json.loads(ds.attrs["building_ground_motion"])
     assert list(own) == ["B"] and own["B"]["delay_s"] == 0.05
     ag = ds.ground_acceleration.values
-    expected, _ = variant(ag, 0.005, 0.05)
+    rise = json.loads(ds.attrs["record"])["dt_original"]  # the record rises from zero over its own step
+    expected, _ = variant(ag, 0.005, 0.05, rise=rise)
     assert np.array_equal(ds.base_acceleration.sel(building="B").values, expected)
     assert np.array_equal(ds.base_acceleration.sel(building="A").values, ag)
+
+
+def test_a_delayed_record_arrives_the_same_at_any_analysis_step(tmp_path):
+    """El Centro starts at 0.015 m/s^2: its delayed copy rises over the record's step, not the analysis step."""
+    rows, row0 = {}, {}
+    for dt in (0.005, 0.0005):
+        path = write_model(tmp_path, _with(BASE, "ground_motion = { delay = 0.05 }\n").replace(
+            "dt = 0.005", f"dt = {dt}"))
+        motions = sp.simulation.prepare_ground_motions(sp.load_model(path))
+        rows[dt], row0[dt] = motions.rows[-1], motions.rows[0]
+    t5, t0 = np.arange(rows[0.005].size) * 0.005, np.arange(rows[0.0005].size) * 0.0005
+    err = np.abs(np.interp(t0, t5, rows[0.005]) - rows[0.0005]).max()
+    assert rows[0.005][9] != 0.0 and err <= 1e-12  # one piecewise-linear function at both steps
+    # control: read with the ramp of one analysis step, the two inputs differ by about half the first sample
+    plain = {dt: variant(row0[dt], dt, 0.05)[0] for dt in rows}
+    gap = np.abs(np.interp(t0, t5, plain[0.005]) - plain[0.0005]).max()
+    assert gap >= 0.4 * abs(row0[0.005][0]) > 0
 
 
 def test_a_record_of_its_own_delayed_and_filtered(tmp_path):
@@ -37,9 +55,10 @@ def test_a_record_of_its_own_delayed_and_filtered(tmp_path):
     m = model.building_motions()[1]
     assert (m.delay, m.lowpass, m.lowpass_order, m.record.scale) == (0.02, 10.0, 2, 0.5)
     ds = sp.simulate(model, twin=False)
-    expected, steps = variant(0.5 * ds.ground_acceleration.values, 0.005, 0.02, 10.0, 2)
-    assert np.allclose(ds.base_acceleration.sel(building="B").values, expected, rtol=1e-12, atol=1e-15)
     own = json.loads(ds.attrs["building_ground_motion"])["B"]
+    expected, steps = variant(0.5 * ds.ground_acceleration.values, 0.005, 0.02, 10.0, 2,
+                              rise=own["record"]["dt_original"])
+    assert np.allclose(ds.base_acceleration.sel(building="B").values, expected, rtol=1e-12, atol=1e-15)
     assert own["steps"] == steps and isinstance(own["record"], dict)
 
 

@@ -12,48 +12,14 @@ import numpy as np
 
 import seispound as sp
 from seispound.cli import summary
+from benchmarks.physics_accuracy import CASES, _text
 from seispound.simulation import MAX_NEWMARK_SUBSTEPS, NEWMARK_THETA, _run_inputs, newmark_substeps
-from tests._models import REPO
-
-PAIR = """
-[analysis]
-dt = {dt}
-duration = 6.0
-[ground_motion]
-file = "{record}"
-units = "g"
-scale = 1.5
-[contact]
-law = "Hd"
-stiffness = 2.75e9
-restitution = 0.65
-[[building]]
-name = "A"
-floors = 5
-floor_masses = 1.0e5
-storey_stiffness = 1.2e8
-storey_heights = 3.0
-damping = {{ kind = "rayleigh", ratio = 0.05, modes = [1, 2] }}
-{law}
-[[building]]
-name = "B"
-floors = 8
-floor_masses = 1.0e5
-storey_stiffness = 1.1e8
-storey_heights = 3.0
-damping = {{ kind = "rayleigh", ratio = 0.05, modes = [1, 2] }}
-{law}
-[[gap]]
-between = ["A", "B"]
-size = 0.02
-"""
-BILINEAR = 'storey_law = { kind = "bilinear", yield_drift = 0.008, post_yield_ratio = 0.05 }'
 
 
-def _model(tmp_path, dt, law=BILINEAR, name="pair.toml"):
-    rec = (REPO / "ground_motions" / "RSN6_IMPVALL.I_I-ELC180-hor1.AT2").as_posix()
+def _model(tmp_path, dt, case="bilinear storeys", name="pair.toml"):
+    """The 5 + 8 storey pair of ``benchmarks.physics_accuracy``, 6 s of it."""
     f = tmp_path / name
-    f.write_text(PAIR.format(dt=dt, record=rec, law=law))
+    f.write_text(_text(CASES[case], dt).replace("duration = 20.0", "duration = 6.0"))
     return sp.load_model(f)
 
 
@@ -65,7 +31,7 @@ def test_the_rule_follows_the_highest_storey_frequency(tmp_path):
     assert n == 2 and w_hi * 0.005 / n <= NEWMARK_THETA < w_hi * 0.005  # 0.33 rad at 5 ms: two substeps
     m.analysis.dt = 0.05
     assert newmark_substeps(m, system) == MAX_NEWMARK_SUBSTEPS  # capped
-    elastic = _model(tmp_path, 0.005, law="", name="elastic.toml")
+    elastic = _model(tmp_path, 0.005, case="elastic row", name="elastic.toml")
     assert newmark_substeps(elastic, _run_inputs(elastic)[1]) == 1  # the fast driver is exact between impacts
 
 

@@ -145,6 +145,16 @@ def _columns(Lf, p, ne_dof, ne_coef, ne_lo, ne_hi, act, m, W, W_ok):
         W_ok[q] = True
 
 
+@njit(cache=True, inline="always")
+def _trial(ne_code, ne_par, st_c, st_t, q, k, s1, dl, rl, cc, Fm, resv, kt):
+    """Element q's law at its linear-step deformation less s1 = (G F)_q: the residual F - f and the
+    consistent tangent d f/d delta + cc d f/d rate into resv[k] and kt[k]; returns f [N]."""
+    f, dfd, dfv = material_trial(ne_code[q], ne_par, st_c, st_t, q, dl[k] - s1, rl[k] - cc * s1)
+    resv[k] = Fm[k] - f
+    kt[k] = dfd + cc * dfv
+    return f
+
+
 @njit(cache=True)
 def _newton(lo, hi, act, Gm, dl, rl, Fm, cc, ne_code, ne_par, st_c, st_t, scale, rtol, max_iter, resv, kt, Sm, ym):
     """Newton-Raphson on the forces Fm[lo:hi] of one group of active elements (module docstring).
@@ -162,9 +172,7 @@ def _newton(lo, hi, act, Gm, dl, rl, Fm, cc, ne_code, ne_par, st_c, st_t, scale,
             s1 = 0.0
             for r in range(lo, hi):
                 s1 += Gm[k, r] * Fm[r]
-            f, dfd, dfv = material_trial(ne_code[q], ne_par, st_c, st_t, q, dl[k] - s1, rl[k] - cc * s1)
-            resv[k] = Fm[k] - f
-            kt[k] = dfd + cc * dfv
+            f = _trial(ne_code, ne_par, st_c, st_t, q, k, s1, dl, rl, cc, Fm, resv, kt)
             rn = max(rn, abs(resv[k]))
             sc = max(sc, abs(f))
         if rn <= rtol * sc:
@@ -219,10 +227,7 @@ def _newton_tangent(lo, hi, act, el, dl, rl, Fm, cc, st_c, st_t, fac, work, scal
         sc = scale
         for k in range(lo, hi):
             q = act[k]
-            s1 = _dot(ne_dof, ne_coef, q, z)
-            f, dfd, dfv = material_trial(ne_code[q], ne_par, st_c, st_t, q, dl[k] - s1, rl[k] - cc * s1)
-            resv[k] = Fm[k] - f
-            kt[k] = dfd + cc * dfv
+            f = _trial(ne_code, ne_par, st_c, st_t, q, k, _dot(ne_dof, ne_coef, q, z), dl, rl, cc, Fm, resv, kt)
             rn = max(rn, abs(resv[k]))
             sc = max(sc, abs(f))
         if rn <= rtol * sc:

@@ -227,7 +227,8 @@ def _begin_impact(g, t, dg, rg, code, par, n_sub, active, zeta, hsub, age, cur_i
     onset force."""
     active[g] = True
     zeta[g], imp_e[n_imp] = onset_state(code, par, rg)
-    hsub[g] = contact_duration(code, par, rg) / n_sub
+    # n_sub = (substeps per impact duration, longest substep [s]: the row's fastest mode's limit)
+    hsub[g] = min(contact_duration(code, par, rg) / n_sub[0], n_sub[1])
     age[g] = 0
     cur_imp[g] = n_imp
     imp_gap[n_imp] = g

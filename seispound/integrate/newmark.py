@@ -165,7 +165,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
               impact_capacity: int | None = None, store_history: bool = True,
               free_flight: bool = True, multirate: bool = True, wait_share: float = WAIT_SHARE,
               scheme: str = "exact", driver: str = "auto", tangent: bool = True,
-              substeps: int | None = None) -> RawResult:
+              substeps: int | None = None, contact_step: float = math.inf) -> RawResult:
     """Integrate a row of buildings under one (or one per DOF group) ground motion.
 
     Parameters
@@ -219,6 +219,13 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         optimisation off) when the row needs it
         (``SystemArrays.needs_general_driver``).  "general" forces the
         general driver on any row: the off switch the tests compare against.
+    substeps : int, optional
+        General driver: no step longer than dt / substeps (a power of two;
+        ``simulation.newmark_substeps`` decides it from the model).
+    contact_step : float
+        Longest contact substep [s] (default inf: 1 / ``contact_substeps`` of
+        the impact duration alone); ``simulation.contact_step`` sets it from
+        the row's fastest mode, which rod floors make kHz.
     tangent : bool
         General driver: the Newton iteration of a group that holds storeys
         with history runs on the banded tangent stiffness (default;
@@ -239,7 +246,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
                          "three-DOF elements or gaps against storeys)")
     if driver == "general" or (driver == "auto" and system.needs_general_driver):
         return _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capacity, store_history,
-                                  tangent, substeps)
+                                  tangent, substeps, contact_step)
     if scheme not in ("exact", "newmark"):
         raise InputError(f'scheme must be "exact" or "newmark", got {scheme!r}', key="analysis.scheme")
     if not 0.0 <= wait_share <= 1.0:
@@ -290,7 +297,8 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
             system.mass, system.dof_a0, system.dof_motion, system.el_i, system.el_j, system.el_k,
             system.el_a1, int(system.bandwidth), system.u0, system.v0, gap_i, gap_j, gap_lo, gap_hi,
             gap_size, gap_law, np.ascontiguousarray(gap_par), np.ascontiguousarray(ag), moving, ground, float(dt),
-            int(nsteps), float(nm.beta), float(nm.gamma), int(nm.contact_substeps), float(nm.rtol),
+            int(nsteps), float(nm.beta), float(nm.gamma), (int(nm.contact_substeps), float(contact_step)),
+            float(nm.rtol),
             int(nm.max_iter), bool(store_history), *md, exact, ex_co,
             bool(multirate), float(wait_share), blk_dof, blk_el, **out), out)
 
@@ -384,7 +392,7 @@ def _element_ranges(tab, n):
 
 
 def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capacity, store_history,
-                       tangent=True, substeps=None) -> RawResult:
+                       tangent=True, substeps=None, contact_step=math.inf) -> RawResult:
     """``integrate`` on the general driver (``_general.py``): Newmark throughout, every law through the
     material protocol."""
     from . import _general as G
@@ -425,7 +433,8 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
             tab["le_c"], int(tab["p"]), tab["dof_load"], system.dof_motion.astype(np.int64), tab["dof_infl"],
             tab["ne_dof"], tab["ne_coef"], tab["ne_size"], tab["ne_code"], tab["ne_par"], ne_gap, ne_lo, ne_hi,
             np.zeros((nn, N_STATE)), ag, moving, ground, np.asarray(system.u0, float), np.asarray(system.v0, float),
-            float(dt), int(nsteps), float(nm.beta), float(nm.gamma), int(nm.contact_substeps), float(nm.rtol),
+            float(dt), int(nsteps), float(nm.beta), float(nm.gamma), (int(nm.contact_substeps), float(contact_step)),
+            float(nm.rtol),
             int(nm.max_iter), bool(store_history), bool(tangent), int(p_tangent), lev_free, **out), out)
 
     n_imp, out = _run_growing(run, cap)

@@ -58,7 +58,9 @@ Attributes
     model_text, record (JSON provenance; "none" for free vibration), contact_law,
     dt, duration, newmark_beta, newmark_gamma, scheme (the one used: "newmark" on the general driver),
     driver ("fast" or "general": ``seispound.integrate.integrate``), newmark_substeps (the general
-    driver's Newmark substeps per analysis step, ``simulation.newmark_substeps``; 1 on the fast one), integrator_stats (JSON), building_ground_motion (JSON:
+    driver's Newmark substeps per analysis step, ``simulation.newmark_substeps``; 1 on the fast one),
+    contact_step_limit (s: the longest contact substep, ``simulation.contact_step``),
+    integrator_stats (JSON), building_ground_motion (JSON:
     each building with a motion of its own: record, delay, filter).
 """
 
@@ -331,6 +333,7 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
         scheme=model.analysis.scheme if raw.driver == "fast" else "newmark",
         driver=raw.driver,
         newmark_substeps=int(raw.stats.get("newmark_substeps", 1)),
+        contact_step_limit=float(raw.stats.get("contact_step", np.inf)),
         integrator_stats=json.dumps(raw.stats),
         sign_convention="x positive from left building to right; penetration = u_left - u_right - gap",
     )

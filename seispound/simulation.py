@@ -152,20 +152,24 @@ def contact_step(system) -> float:
     return CONTACT_THETA / np.sqrt(w2) if w2 > 0 else np.inf
 
 
-def run_row(model, system, rows, *, scheme=None, store_history=True):
+def run_row(model, system, rows, *, scheme=None, store_history=True, limit_contact_step=True):
     """Integrate an assembled row with the model's analysis settings: the one call every run makes.
 
     ``simulate`` (the run and its twin), the study worker, a fit's evaluation and the impact
     procedure all integrate through here, so the step, the scheme and the general driver's
     substeps (:func:`newmark_substeps`) are decided once.  ``scheme`` overrides the model's.
-    Returns the kernel's RawResult, its ``stats["newmark_substeps"]`` set.
+    ``limit_contact_step`` False leaves the contact substeps at 1 / ``contact_substeps`` of each
+    impact's duration (:func:`contact_step` not applied): a fit's evaluations do, since the limit
+    made a diagnosis with rod-floor forms 11 times slower (docs/performance.md).
+    Returns the kernel's RawResult, its ``stats["newmark_substeps"]`` and ``stats["contact_step"]`` set.
     """
     an = model.analysis
     n = newmark_substeps(model, system)
+    h_c = contact_step(system) if limit_contact_step else np.inf
     raw = integrate(system, rows, an.dt, an.nsteps, an.newmark, scheme=scheme or an.scheme,
-                    store_history=store_history, substeps=n, contact_step=contact_step(system))
+                    store_history=store_history, substeps=n, contact_step=h_c)
     raw.stats["newmark_substeps"] = n if raw.driver == "general" else 1
-    raw.stats["contact_step"] = float(contact_step(system))
+    raw.stats["contact_step"] = float(h_c)
     return raw
 
 

@@ -30,6 +30,8 @@ from ._linear import _dense_solve
 # contact; its first substeps are graded (1/2^ONSET_GRADING of the regular
 # substep, doubling each substep) so that the impact converges with the substep.
 ONSET_GRADING = 6
+# the row's fastest mode (``simulation.contact_step``) may shorten an impact's substeps up to this factor
+MAX_SUBSTEP_FACTOR = 4
 
 
 @njit(cache=True, inline="always")
@@ -227,8 +229,10 @@ def _begin_impact(g, t, dg, rg, code, par, n_sub, active, zeta, hsub, age, cur_i
     onset force."""
     active[g] = True
     zeta[g], imp_e[n_imp] = onset_state(code, par, rg)
-    # n_sub = (substeps per impact duration, longest substep [s]: the row's fastest mode's limit)
-    hsub[g] = min(contact_duration(code, par, rg) / n_sub[0], n_sub[1])
+    # n_sub = (substeps per impact duration, longest substep [s]: the row's fastest mode's limit), the
+    # limit never asking more than MAX_SUBSTEP_FACTOR times the substeps (it costs that much per impact)
+    dur = contact_duration(code, par, rg)
+    hsub[g] = max(min(dur / n_sub[0], n_sub[1]), dur / (MAX_SUBSTEP_FACTOR * n_sub[0]))
     age[g] = 0
     cur_imp[g] = n_imp
     imp_gap[n_imp] = g

@@ -106,7 +106,9 @@ def test_a_stiff_foundation_approaches_the_fixed_base(tmp_path):
     u1 = flex.displacement.sel(building="A")
     err = float(abs(u1 - u0).max() / abs(u0).max())
     print(f"MEASURED stiff foundation against the fixed base: {err:.1e} of the peak displacement")
-    assert err <= 1e-5  # measured 2.4e-6 (springs 1e6 times the storeys': a residual flexibility of 1e-6)
+    # measured 3.3e-4: the 1e14 N/m springs set the row's omega_max, so the flexible row's contact substeps are
+    # 4 times shorter (simulation.contact_step); with equal substeps 2.4e-6
+    assert err <= 1e-3
 
 
 @pytest.mark.parametrize("table, key", [

@@ -141,7 +141,9 @@ def contact_step(system) -> float:
     ``benchmarks.physics_accuracy`` (4 segments, 220 Hz axial modes) the floor-acceleration NE
     at 5 ms against a 0.5 ms run was 2.47 % without the limit, 0.11 % at 0.4 and 0.03 % at 0.2
     (at 3.7 and 9.6 times the cost); with every physics together 1.61 % -> 0.29 %.  For storeys
-    alone the limit is longer than the impact's substeps, so ordinary rows are unchanged.
+    alone the limit is longer than the impact's substeps, so ordinary rows are unchanged (unless
+    very stiff springs, a foundation on 1e14 N/m, set omega_max).  The kernel never lets it ask
+    more than ``_contact.MAX_SUBSTEP_FACTOR`` (4) times an impact's substeps.
     """
     k, i, j, m = (np.asarray(x, float) for x in (system.el_k, system.el_i, system.el_j, system.mass))
     i, j = i.astype(np.int64), j.astype(np.int64)

@@ -58,7 +58,8 @@ BOUC_WEN = 'storey_law = { kind = "bouc-wen", yield_drift = 0.008, post_yield_ra
 SPRINGS = ('foundation = { mass = 2e5, rotary_inertia = 2e6, floor_rotary_inertia = 5e5, sway_stiffness = 2e9, '
            'sway_damping = 4e7, rocking_stiffness = 2e11, rocking_damping = 1e9 }')
 SOIL = ('foundation = { mass = 2e5, rotary_inertia = 2e6, floor_rotary_inertia = 5e5, '
-        'soil = { shear_wave_velocity = 200.0, density = 1900.0, poisson = 0.3 }, footing = { width = 15.0, length = 15.0 } }')
+        'soil = { shear_wave_velocity = 200.0, density = 1900.0, poisson = 0.3 }, '
+        'footing = { width = 15.0, length = 15.0 } }')
 RODS = 'floor_model = { kind = "rod", segments = 4, length = 20.0, axial_stiffness = 6e10, axial_damping = 0.02 }'
 DELAY = 'ground_motion = { delay = 0.05 }'
 CASES = {

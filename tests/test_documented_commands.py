@@ -5,7 +5,7 @@ Commands run in a sandbox folder holding copies of ``models/``, ``ground_motions
 in the order the README shows them (the study before its queries).  A console block's
 printed output is compared with what the command prints (a line ``...`` stands for
 lines left out).  Benchmark commands (``python -m benchmarks.X``, ``python -m
-seispound.bench``) run for minutes or need the test-only records of ``../shared``:
+benchmarks.canonical``) run for minutes or need the test-only records of ``../shared``:
 they are checked to start and parse their options (``--help``), which a stale name
 or option in the text would fail.
 """
@@ -172,7 +172,7 @@ def test_benchmark_commands_start():
     modules = set()
     for path in [*_sources(), *DOCS]:
         modules |= set(re.findall(r"python3? -m ((?:benchmarks|seispound)\.[\w.]+)", path.read_text(encoding="utf-8")))
-    assert "seispound.bench" in modules
+    assert "benchmarks.canonical" in modules
     for module in sorted(modules):
         proc = subprocess.run([sys.executable, "-m", module, "--help"], cwd=REPO, capture_output=True, text=True,
                               timeout=120)

@@ -1,6 +1,6 @@
 """A bare linear Newmark-beta loop: the floor of what a time loop of this size can cost.
 
-Used only by ``python -m seispound.bench`` as the in-process reference.  Same
+Used only by ``python -m benchmarks.canonical`` as the in-process reference.  Same
 factor (L D L^T when tridiagonal) and solve as the kernel, no contact, no energy, no events:
 incremental average-acceleration Newmark (Chopra Table 5.4.2) on the assembled system.
 """
@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .integrate._linear import _factor, _internal, _solve
+from seispound.integrate._linear import _factor, _internal, _solve
 
 
 @njit(cache=True)

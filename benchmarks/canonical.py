@@ -1,4 +1,4 @@
-"""Benchmark of the canonical case: ``python -m seispound.bench``.
+"""Benchmark of the canonical case: ``python -m benchmarks.canonical``.
 
 Canonical case (issue 2, item 11): a row of three buildings (8, 12 and 6
 storeys, floor mass 1e5 kg, T1 = 0.8, 1.2 and 0.6 s), 40 s of the bundled El
@@ -37,11 +37,11 @@ def _median_time(fn, repeat):
 
 def run_benchmark(model_path=CANONICAL, repeat: int = 5) -> dict:
     """Time the canonical case; return the figures in seconds and ratios."""
-    from . import load_model, simulate
-    from ._bare import bare_newmark
-    from .integrate import integrate
-    from .simulation import prepare_ground_motion
-    from .structure import assemble
+    from seispound import load_model, simulate
+    from benchmarks._bare import bare_newmark
+    from seispound.integrate import integrate
+    from seispound.simulation import prepare_ground_motion
+    from seispound.structure import assemble
 
     model = load_model(model_path)
     an = model.analysis
@@ -88,7 +88,7 @@ def run_benchmark(model_path=CANONICAL, repeat: int = 5) -> dict:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m seispound.bench", description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.canonical", description=__doc__.split("\n\n")[0])
     ap.add_argument("--model", default=str(CANONICAL), help="model file (default: the canonical row of three)")
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--json", action="store_true", help="print the figures as JSON")

@@ -314,6 +314,13 @@ def summary(ds, out=None) -> str:
         n = int(ds.attrs.get("newmark_substeps", 1))
         lines.append("  Newmark steps throughout (yielding storeys, a foundation or floor-to-storey gaps need the "
                      f"general driver), {n} substep{'s' if n > 1 else ''} per analysis step")
+    if ni and "contact_substeps" in ds.attrs:
+        n, est = int(ds.attrs["contact_substeps"]), float(ds.attrs.get("contact_error_estimate", float("nan")))
+        if ds.attrs.get("contact_substeps_from") == "tolerance":
+            lines.append(f"  {n} contact substeps per impact, chosen for a tolerance of "
+                         f"{float(ds.attrs['tolerance']):.3g} (estimated error of an impact {est:.2g})")
+        else:
+            lines.append(f"  {n} contact substeps per impact, as the model gives")
     if ng:
         lines.append("  gap  between        floors  size [m]  impacts  peak force [kN]")
         for g in range(ng):

@@ -168,11 +168,35 @@ def run_row(model, system, rows, *, scheme=None, store_history=True, limit_conta
     an = model.analysis
     n = newmark_substeps(model, system)
     h_c = contact_step(system) if limit_contact_step else np.inf
-    raw = integrate(system, rows, an.dt, an.nsteps, an.newmark, scheme=scheme or an.scheme,
+    nm, estimate = contact_substeps(model)
+    raw = integrate(system, rows, an.dt, an.nsteps, nm, scheme=scheme or an.scheme,
                     store_history=store_history, substeps=n, contact_step=h_c)
     raw.stats["newmark_substeps"] = n if raw.driver == "general" else 1
     raw.stats["contact_step"] = float(h_c)
+    raw.stats["contact_substeps"] = int(nm.contact_substeps)
+    raw.stats["contact_error_estimate"] = estimate
     return raw
+
+
+def contact_substeps(model):
+    """(Newmark settings with the contact substeps set, the estimated relative error of an impact).
+
+    Given substeps (``[analysis] contact_substeps``) win, with no estimate (NaN); otherwise the
+    fewest that meet ``[analysis] tolerance`` on an isolated impact of each of the row's laws
+    (:func:`seispound.accuracy.choose_contact_substeps`), never fewer than Newmark's stability
+    asks for the contact stiffness.
+    """
+    from .accuracy import choose_contact_substeps
+
+    nm = model.analysis.newmark
+    if nm.contact_substeps is not None:
+        return nm, float("nan")
+    laws = [g.law or model.contact for g in model.gaps]
+    n, estimate = choose_contact_substeps([law for law in laws if law is not None], model.analysis.tolerance)
+    limit = nm.stability_limit()
+    if np.isfinite(limit):
+        n = max(n, int(np.ceil(1.0 / (2.0 * limit) + 1e-12)))
+    return replace(nm, contact_substeps=n), estimate
 
 
 def prepare_ground_motions(model) -> GroundMotions:
@@ -286,7 +310,7 @@ class _SettingError(Exception):
         self.message, self.section, self.key, self.record = message, section, key, record
 
 
-def simulate(model, *, twin: bool = True, force: bool = False) -> xr.Dataset:
+def simulate(model, *, twin: bool = True, force: bool = False, tolerance: float | None = None) -> xr.Dataset:
     """Simulate ``model`` and return its result Dataset (schema in :mod:`seispound.results.schema`).
 
     The no-pounding twin (all gaps disabled, same record and settings) runs
@@ -300,6 +324,10 @@ def simulate(model, *, twin: bool = True, force: bool = False) -> xr.Dataset:
     force : bool
         Run even when a plausibility guard would refuse (a PGA above 3 g ...;
         :mod:`seispound.plausibility`).  Findings are still warned about and stored.
+    tolerance : float, optional
+        The relative error accepted on the peak pounding force and the peak floor response, in
+        (0, 0.5]; replaces ``[analysis] tolerance`` (default 0.01) for this run.  The contact
+        substeps are chosen from it unless the model gives them (:func:`contact_substeps`).
 
     Raises
     ------
@@ -313,6 +341,8 @@ def simulate(model, *, twin: bool = True, force: bool = False) -> xr.Dataset:
     from .results import build_dataset
     from .results.schema import Layout
 
+    if tolerance is not None:  # a copy of the model with its analysis' tolerance replaced
+        model = replace(model, analysis=replace(model.analysis, tolerance=tolerance))
     kept, system, motions = _run_inputs(model)  # validated as the file reader validates, assembled once
     if "model_findings" not in kept:
         kept["model_findings"] = tuple(check_model(model))

@@ -299,7 +299,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
             system.mass, system.dof_a0, system.dof_motion, system.el_i, system.el_j, system.el_k,
             system.el_a1, int(system.bandwidth), system.u0, system.v0, gap_i, gap_j, gap_lo, gap_hi,
             gap_size, gap_law, np.ascontiguousarray(gap_par), np.ascontiguousarray(ag), moving, ground, float(dt),
-            int(nsteps), float(nm.beta), float(nm.gamma), (int(nm.contact_substeps), float(contact_step)),
+            int(nsteps), float(nm.beta), float(nm.gamma), (_substeps(nm), float(contact_step)),
             float(nm.rtol), int(nm.max_iter), bool(store_history), *md, exact, ex_co,
             bool(multirate), float(wait_share), blk_dof, blk_el, **out), out)
 
@@ -330,6 +330,13 @@ def _catalogue(cap) -> dict:
     return dict(imp_gap=np.empty(cap, np.int64), imp_t0=np.empty(cap), imp_v0=np.empty(cap), imp_vout=np.empty(cap),
                 imp_fmax=np.empty(cap), imp_dur=np.empty(cap), imp_zeta=np.empty(cap), imp_e=np.empty(cap),
                 stats=np.zeros(K.N_STATS, np.int64))
+
+
+def _substeps(nm) -> int:
+    """The contact substeps of ``nm``; unset (a model's are chosen by ``simulation.run_row``): the default."""
+    from ..model.analysis import DEFAULT_CONTACT_SUBSTEPS
+
+    return DEFAULT_CONTACT_SUBSTEPS if nm.contact_substeps is None else int(nm.contact_substeps)
 
 
 def _run_growing(run, cap):
@@ -432,7 +439,7 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
             tab["le_c"], int(tab["p"]), tab["dof_load"], system.dof_motion.astype(np.int64), tab["dof_infl"],
             tab["ne_dof"], tab["ne_coef"], tab["ne_size"], tab["ne_code"], tab["ne_par"], ne_gap, ne_lo, ne_hi,
             np.zeros((nn, N_STATE)), ag, moving, ground, np.asarray(system.u0, float), np.asarray(system.v0, float),
-            float(dt), int(nsteps), float(nm.beta), float(nm.gamma), (int(nm.contact_substeps), float(contact_step)),
+            float(dt), int(nsteps), float(nm.beta), float(nm.gamma), (_substeps(nm), float(contact_step)),
             float(nm.rtol), int(nm.max_iter), bool(store_history), bool(tangent), int(p_tangent), lev_free, **out),
             out)
 

@@ -304,7 +304,7 @@ class Model:
                 f"{limit * t_min:.3g} s (T_min = {t_min:.3g} s, {where}); dt = {dt:g} s would diverge: "
                 "use a smaller dt or beta = 0.25 (average acceleration, unconditionally stable)",
                 key="analysis.dt")
-        if 1.0 / (2.0 * nm.contact_substeps) > limit:
+        if nm.contact_substeps is not None and 1.0 / (2.0 * nm.contact_substeps) > limit:
             need = math.ceil(1.0 / (2.0 * limit) + 1e-12)
             raise InputError(
                 f"with Newmark beta = {nm.beta:g}, gamma = {nm.gamma:g} the contact substeps are stable only "

@@ -16,13 +16,13 @@ from ..floor import Attachment, RodFloor
 from ..foundation import Footing, Foundation, Soil
 from ..storey import StoreyLaw
 from ..structure import Building, Gap, NoDamping, RayleighDamping
-from .analysis import Analysis, Newmark
+from .analysis import DEFAULT_TOLERANCE, Analysis, Newmark
 from .spec import BuildingMotion, GroundMotionSpec, Model
 
 __all__ = ["load_model", "parse_model", "read_toml"]
 
 _TOP = {"title", "description", "analysis", "ground_motion", "contact", "building", "gap"}
-_ANALYSIS = {"dt", "duration", "newmark", "contact_substeps", "rtol", "max_iter", "scheme"}
+_ANALYSIS = {"dt", "duration", "newmark", "contact_substeps", "rtol", "max_iter", "scheme", "tolerance"}
 _NEWMARK = {"beta", "gamma"}
 _GROUND = {"file", "format", "dt", "trace", "units", "scale", "calibration", "baseline"}
 _BUILDING = {"name", "floors", "floor_masses", "storey_stiffness", "storey_heights", "damping",
@@ -101,12 +101,13 @@ def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
         raise InputError("must be a table {beta, gamma}", key="analysis.newmark")
     _check_keys(nmk, _NEWMARK, "analysis.newmark")
     newmark = Newmark(beta=nmk.get("beta", 0.25), gamma=nmk.get("gamma", 0.5),
-                      contact_substeps=an.get("contact_substeps", 32), rtol=an.get("rtol", 1e-10),
+                      contact_substeps=an.get("contact_substeps"), rtol=an.get("rtol", 1e-10),
                       max_iter=an.get("max_iter", 30))
     for req in ("dt", "duration"):
         if req not in an:
             raise InputError("is required", key=f"analysis.{req}")
-    analysis = Analysis(dt=an["dt"], duration=an["duration"], newmark=newmark, scheme=an.get("scheme", "exact"))
+    analysis = Analysis(dt=an["dt"], duration=an["duration"], newmark=newmark, scheme=an.get("scheme", "exact"),
+                        tolerance=an.get("tolerance", DEFAULT_TOLERANCE))
     analysis.validate()
 
     # -- ground motion (optional: free vibration / impact test) ----------------

@@ -60,6 +60,11 @@ Attributes
     driver ("fast" or "general": ``seispound.integrate.integrate``), newmark_substeps (the general
     driver's Newmark substeps per analysis step, ``simulation.newmark_substeps``; 1 on the fast one),
     contact_step_limit (s: the longest contact substep, ``simulation.contact_step``),
+    contact_substeps (per impact duration, as run), contact_substeps_from ("tolerance": chosen by
+    ``simulation.contact_substeps`` from the tolerance; "model": given), tolerance (the relative
+    error accepted on the peak pounding force and peak floor response), contact_error_estimate
+    (the estimated relative error of one impact at those substeps, NaN when they were given:
+    ``seispound.accuracy``),
     integrator_stats (JSON), building_ground_motion (JSON:
     each building with a motion of its own: record, delay, filter).
 """
@@ -334,10 +339,20 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
         driver=raw.driver,
         newmark_substeps=int(raw.stats.get("newmark_substeps", 1)),
         contact_step_limit=float(raw.stats.get("contact_step", np.inf)),
+        contact_substeps=int(raw.stats.get("contact_substeps", _given(nm.contact_substeps))),
+        contact_substeps_from="tolerance" if nm.contact_substeps is None else "model",
+        tolerance=float(model.analysis.tolerance),
+        contact_error_estimate=float(raw.stats.get("contact_error_estimate", np.nan)),
         integrator_stats=json.dumps(raw.stats),
         sign_convention="x positive from left building to right; penetration = u_left - u_right - gap",
     )
     return dataset(data_vars, coords, attrs)
+
+
+def _given(n):
+    from ..model.analysis import DEFAULT_CONTACT_SUBSTEPS
+
+    return DEFAULT_CONTACT_SUBSTEPS if n is None else int(n)
 
 
 def _rod_nodes(model, system, raw, nb, nfmax):

@@ -52,6 +52,22 @@ class Observer:
         self.trials = trials
         self.evaluations = 0
         self.impact_times = []
+        self._substeps = None  # contact substeps the tolerance chose for the model as given, kept for the fit
+
+    def _fixed_substeps(self, trial) -> int:
+        """The contact substeps of every evaluation whose model does not give them: chosen once, from the
+        model as given, so that a fitted e cannot move them (a fit's misfit must not jump between evaluations)."""
+        if self._substeps is None:
+            from ..simulation import contact_substeps
+
+            data = copy.deepcopy(trial.model_data if trial.model_data is not None else self.model_data)
+            self._substeps = int(contact_substeps(self._parse(trial, data))[0].contact_substeps)
+        return self._substeps
+
+    def _parse(self, trial, data):
+        from ..model.toml_loader import parse_model
+
+        return parse_model(data, base=trial.base or self.base)
 
     def data_for(self, trial, overrides) -> dict:
         """The model table of ``trial`` with ``overrides`` [(path, value)] applied, its duration the recording's."""
@@ -63,6 +79,8 @@ class Observer:
         rec = trial.recording
         analysis = data.setdefault("analysis", {})
         analysis["duration"] = float((rec.npts - 1) * rec.dt)
+        if "contact_substeps" not in analysis:
+            analysis["contact_substeps"] = self._fixed_substeps(trial)
         for name, v in (trial.initial_velocity or {}).items():
             hit = [b for b in data.get("building", []) if b.get("name") == name]
             if not hit:
@@ -73,9 +91,7 @@ class Observer:
         return data
 
     def model_for(self, trial, overrides):
-        from ..model.toml_loader import parse_model
-
-        return parse_model(self.data_for(trial, overrides), base=trial.base or self.base)
+        return self._parse(trial, self.data_for(trial, overrides))
 
     def simulate(self, overrides) -> list[dict]:
         """Per trial: {trace id: simulated samples on the recording's grid}."""

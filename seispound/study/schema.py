@@ -53,7 +53,7 @@ Values of runs that are not done (failed or not run yet) are NaN for floats.
 from __future__ import annotations
 
 SCHEMA = "seispound-study"
-SCHEMA_VERSION = 2
+SCHEMA_VERSION = 3
 
 STATUS_DONE = 1
 STATUS_FAILED = 0
@@ -84,6 +84,10 @@ SUMMARY_VARIABLES = [
     ("max_peak_drift_ratio", (), "1", "largest peak drift ratio, with pounding", "f8"),
     ("max_pounding_force", (), "N", "largest peak pounding force over the gap elements", "f8"),
     ("total_impacts", (), "1", "number of impacts, all gap elements", "i8"),
+    ("contact_substeps", (), "1", "contact substeps per impact duration, as run (chosen from analysis.tolerance "
+                                  "unless the model gives them)", "i8"),
+    ("contact_error_estimate", (), "1", "estimated relative error of one impact at those substeps (NaN when given)",
+     "f8"),
 ]
 
 # history name -> (trailing dims, units, long name)

@@ -95,6 +95,8 @@ def run_one(study, index: int, twin: dict) -> dict:
         max_amplification=_nanmax(amp_f),
         max_pounding_force=float(raw.peak_force.max(initial=0.0)),
         total_impacts=int(counts.sum()),
+        contact_substeps=int(raw.stats["contact_substeps"]),
+        contact_error_estimate=float(raw.stats["contact_error_estimate"]),
     )
     for name in ("acceleration", "drift_ratio", "storey_shear"):
         out[f"peak_{name}"] = _per_floor(peaks[name], study)

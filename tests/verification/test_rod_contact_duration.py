@@ -1,4 +1,4 @@
-"""The contact duration of two rods in Saint-Venant impact: why the lumped-mass chain is off 2L/c, and that it converges.
+"""The contact duration of two rods in Saint-Venant impact: why the lumped chain is off 2L/c, and that it converges.
 
 Kinds: independent solver (the package against the exact-in-time modal solution of the same lumped
 chain, written here with scipy's ``eigh``) and closed form (derived here: the interface mode and the
@@ -22,9 +22,9 @@ What sets the discrete duration (derived here, checked below):
    the mesh is refined; only its period, 2 pi / w = 1.235 / N of 2L/c, shrinks.  The contact ends at
    a trough of this ringing.
 2. The Airy delay of the unloading front.  The chain's dispersion w = 2 omega_0 sin(kappa/2)
-   (Brillouin 1946, Wave Propagation in Periodic Structures, Ch. 1; recalled, not read here) is w ~ omega_0 (kappa - kappa^3/24)
-   for long waves, so a step front that has travelled n segments is smeared into
-   S(X) = int_X^inf Ai, X = (n - omega_0 t) (8 / (omega_0 t))^(1/3) (stationary phase at the
+   (Brillouin 1946, Wave Propagation in Periodic Structures, Ch. 1; recalled, not read here) is
+   w ~ omega_0 (kappa - kappa^3/24) for long waves, so a step front that has travelled n segments
+   is smeared into S(X) = int_X^inf Ai, X = (n - omega_0 t) (8 / (omega_0 t))^(1/3) (stationary phase at the
    inflection of the dispersion; derived).  Without the interface mode, the bonded chain's contact
    force drops at 2N segments from +P to -P for equal rods (the bonded free-free rod of length 2L,
    half of it moving: an antisymmetric square wave) and crosses zero where S = 1/2; for a short rod on
@@ -133,6 +133,8 @@ def test_interface_mode_of_the_assembled_rods(n):
     system = _system(1.0, 1.0, n, n)
     M, _, K = system.matrices()
     i, j, k = int(system.gap_i[0]), int(system.gap_j[0]), EA * n
+    inner = [d for d in np.flatnonzero(K[i]) if d != i and K[i, d] < -1.0]  # the striker's node next to the face
+    assert len(inner) == 1
     K[i, i] += k
     K[j, j] += k
     K[i, j] -= k
@@ -141,11 +143,14 @@ def test_interface_mode_of_the_assembled_rods(n):
     w = math.sqrt(w2[-1])
     amp = k * abs(phi[i, -1] - phi[j, -1]) * abs(phi[:, -1] @ M @ system.v0) / w
     next_w = math.sqrt(w2[-2]) / (n * C)
+    decay = phi[inner[0], -1] / phi[i, -1]  # u_1 / u_0 = -r
     err_w, err_a = w / (n * C) / W_INTERFACE - 1, amp / PLATEAU / A_INTERFACE - 1
     print(f"MEASURED interface mode, N = {n}: omega / (N c / L) {w / (n * C):.6f} (closed form {W_INTERFACE:.6f}, "
           f"{err_w:+.1e}), next {next_w:.6f} (cut-off 2); force amplitude / P {amp / PLATEAU:.6f} "
-          f"(closed form {A_INTERFACE:.6f}, {err_a:+.1e})")
+          f"(closed form {A_INTERFACE:.6f}, {err_a:+.1e}); u_1 / u_0 {decay:.6f} "
+          f"(-r = {-R:.6f}, {decay / -R - 1:+.1e})")
     assert abs(err_w) <= 4e-12 and abs(err_a) <= 4e-12  # measured 1.2e-12 (the 1 N/m storeys), 8e-14
+    assert abs(decay / -R - 1) <= 2e-15  # measured 6.7e-16
     assert next_w <= 2.0 + 1e-9  # the only mode above the cut-off (the next is the chain's pi-mode, at 2)
 
 
@@ -207,6 +212,6 @@ def test_default_substeps_stay_within_a_ringing_period(l1, l2, n1, n2):
     episode = imp["t0"][-1] + imp["dur"][-1] - imp["t0"][0]
     off = (first - exact) / chain.period
     print(f"MEASURED rods {l1}/{l2} m, N = {n1}/{n2}, default substeps: exact chain {exact / chain.T - 1:+.3%}, "
-          f"package first contact {first / chain.T - 1:+.3%} ({off:+.2f} ringing periods of {chain.period / chain.T:.2%}"
-          f"), episode {episode / chain.T - 1:+.3%} over {imp['t0'].size} contact(s)")
+          f"package first contact {first / chain.T - 1:+.3%} ({off:+.2f} ringing periods of "
+          f"{chain.period / chain.T:.2%}), episode {episode / chain.T - 1:+.3%} over {imp['t0'].size} contact(s)")
     assert abs(off) <= 1.0  # measured up to 0.52

@@ -1,7 +1,7 @@
 """The contact duration of two rods in Saint-Venant impact: why the lumped chain is off 2L/c, and that it converges.
 
 Kinds: independent solver (the package against the exact-in-time modal solution of the same lumped
-chain, written here with scipy's ``eigh``) and closed form (derived here: the interface mode and the
+chain, written here with scipy's ``eigh_tridiagonal``) and closed form (derived here: the interface mode and the
 Airy delay of the unloading front).  The set-up is ``_impact`` of test_rod_floors.py: two free rods
 (100 kg/m, EA = 1e8 N, c = 1000 m/s), each cut in N segments (masses m/N inside, m/2N at the faces,
 springs EA N / L; Cook et al. 2002, Sec. 11.3), the striker at v0 = 0.1 m/s, the contact spring equal
@@ -19,8 +19,8 @@ What sets the discrete duration (derived here, checked below):
    sum m_j phi_j^2, geometric series) is (v0/2)(1 - r)^2/(1 + r^2) = (v0/2)(1 - 1/sqrt5), so the
    contact force rings at w with amplitude A = k v0 (1 - 1/sqrt5) / w = P 2 (1 - 1/sqrt5) /
    sqrt(2 + 2 sqrt5) = 0.4346 P (sqrt(k m) = rho c A), the same for every N: it does not go away as
-   the mesh is refined; only its period, 2 pi / w = 1.235 / N of 2L/c, shrinks.  The contact ends at
-   a trough of this ringing.
+   the mesh is refined; only its period, 2 pi / w = 1.235 / N of 2L/c, shrinks.  The contact ends
+   where a trough of this ringing first reaches zero.
 2. The Airy delay of the unloading front.  The chain's dispersion w = 2 omega_0 sin(kappa/2)
    (Brillouin 1946, Wave Propagation in Periodic Structures, Ch. 1; recalled, not read here) is
    w ~ omega_0 (kappa - kappa^3/24) for long waves, so a step front that has travelled n segments
@@ -42,7 +42,7 @@ So there is no fixed offset such as (N+1)/N 2L/c: the lumped chain's duration co
 chain's at second order in the substep.  The numbers of test_rod_floors.py are explained: at the
 defaults the package's first contact is within a ringing period of the exact chain's, and its
 "duration" is the episode from the first touch to the last separation, which for N = 200 equal rods
-and for the short rod includes a second, brief contact caused by the ringing (the package's
+and for the short rod at N = 100 and 200 includes a second contact after the first separation (the package's
 episodes: equal N = 100 +0.64 %, N = 200 +0.86 %; short on long N = 200 +2.01 %; their first
 contacts +0.64 %, +0.26 %, +1.26 %; the exact chain's +0.73 %, +0.38 %, +1.02 %).
 """

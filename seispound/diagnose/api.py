@@ -327,6 +327,8 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     model, chans, trial_list = load_inputs(model, recordings, channels, trials)
     chans = [c for c in chans if not (c.quantity == "acceleration" and c.floor == 0)]  # the input, not a response
     base_data = tomllib.loads(model.text)
+    # every fit's contact substeps as given, else 32 (what the numerics check below doubles)
+    base_data.setdefault("analysis", {}).setdefault("contact_substeps", 32)
     base = Path(model.source).parent if model.source else Path(".")
     say = (lambda msg: print(f"  {msg}", file=sys.stderr, flush=True)) if progress else (lambda msg: None)
 

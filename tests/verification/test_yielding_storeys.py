@@ -78,7 +78,8 @@ def _run_and_twin(kind, dt):
 # limits at dt = 5 and 2.5 ms on the hysteretic energy's error and on the residual drifts' difference / peak
 # displacement; measured bilinear +5.5e-4, +1.2e-4 and 7.4e-4, 2.0e-4; Bouc-Wen -1.6e-4, -1.9e-5 and 7.7e-4, 1.6e-4
 @pytest.mark.parametrize("kind, energy_limits, residual_limits", [("bilinear", (1.5e-3, 3e-4), (2e-3, 5e-4)),
-                                                                   ("bouc-wen", (4e-4, 5e-5), (2e-3, 4e-4))])
+                                                                   ("bouc-wen", (4e-4, 5e-5), (2e-3, 4e-4))],
+                         ids=["bilinear", "bouc-wen"])
 def test_building_under_a_record_equals_the_twin(kind, energy_limits, residual_limits):
     errs = []
     for dt, energy_limit, residual_limit in zip((0.005, 0.0025), energy_limits, residual_limits):
@@ -103,7 +104,8 @@ def test_building_under_a_record_equals_the_twin(kind, energy_limits, residual_l
 # measured: balance 7.1e-15 / 2.6e-15 of the input (round-off: ~10x); input against the twin's +1.9e-4 / -2.2e-4;
 # damping -6.2e-4 / -4.3e-4; largest fall of the hysteretic energy -2.2e-16 (round-off: ~10x) / -1.2e-8 of its largest
 @pytest.mark.parametrize("kind, balance_limit, damping_limit, fall_limit", [("bilinear", 7e-14, 1.5e-3, 2e-15),
-                                                                             ("bouc-wen", 3e-14, 1.2e-3, 3e-8)])
+                                                                             ("bouc-wen", 3e-14, 1.2e-3, 3e-8)],
+                         ids=["bilinear", "bouc-wen"])
 def test_energy_balance_with_hysteretic_dissipation(kind, balance_limit, damping_limit, fall_limit):
     raw, ref = _run_and_twin(kind, 0.005)
     e = raw.energy

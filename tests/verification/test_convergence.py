@@ -59,25 +59,28 @@ def twin():
 
 
 def test_halving_the_step():
-    """dt = 0.005 -> 0.0025: peak pounding force changes < 1 %, same number of impacts (per gap)."""
+    """dt = 0.005 -> 0.0025: peak pounding force unchanged but for round-off, peak displacements (sampled on the
+    output grid) within 5e-5, same number of impacts (per gap)."""
     r1 = kernel(0.005, T_LONG)
     r2 = kernel(0.0025, T_LONG)
     n1, n2 = r1.impacts["gap"].size, r2.impacts["gap"].size
     f1, f2 = r1.peak_force.max(), r2.peak_force.max()
     du = np.max(np.abs(r1.peak_displacement / r2.peak_displacement - 1.0))
+    dfg = np.max(np.abs(r1.peak_force / np.where(r2.peak_force > 0, r2.peak_force, 1.0) - 1.0) * (r2.peak_force > 0))
     print(f"MEASURED convergence: impacts {n1} vs {n2}; peak force {f1:.6g} vs {f2:.6g} N "
-          f"(change {abs(f1 / f2 - 1):.2e}); peak displacement change {du:.2e}")
+          f"(change {abs(f1 / f2 - 1):.2e}, per gap {dfg:.2e}); peak displacement change {du:.2e}")
     assert n1 == n2 and n1 >= 20
     assert np.array_equal(np.bincount(r1.impacts["gap"], minlength=5), np.bincount(r2.impacts["gap"], minlength=5))
-    assert abs(f1 / f2 - 1.0) < 0.01
-    assert np.max(np.abs(r1.peak_force / np.where(r2.peak_force > 0, r2.peak_force, 1.0) - 1.0)
-                  * (r2.peak_force > 0)) < 0.01
-    assert du < 0.01
+    # measured 5.1e-12 (overall and per gap): the exact scheme's free flight is exact for the record at both
+    # steps and the contact substeps do not depend on dt, so this is round-off accumulated over the run: ~10x
+    assert abs(f1 / f2 - 1.0) < 5e-11
+    assert dfg < 5e-11
+    assert du < 5e-5  # measured 2.1e-5 (the output sampling of the peaks)
 
 
 @pytest.mark.parametrize("dt", [0.005, 0.0025])
 def test_against_reference_twin(dt, twin):
-    """First 6 s: peak displacements within 1 %, peak force within 2 %, same impacts as the twin."""
+    """First 6 s: peak displacements within 0.05 %, peak force within 0.06 %, same impacts as the twin."""
     r = kernel(dt, T_TWIN)
     ni, nt = r.impacts["gap"].size, twin.impacts["gap"].size
     du = np.max(np.abs(r.peak_displacement / twin.peak_displacement - 1.0))
@@ -88,8 +91,8 @@ def test_against_reference_twin(dt, twin):
           f"twin {twin.peak_force.max():.6g} N")
     assert ni == nt
     assert np.array_equal(r.peak_force > 0, active)
-    assert du <= 0.01
-    assert df <= 0.02
+    assert du <= 5e-4  # measured 1.9e-4 at both steps
+    assert df <= 6e-4  # measured 2.5e-4 at both steps
     # impact by impact (same order): onset time, approach velocity, restitution
     ki = np.lexsort((r.impacts["t0"], r.impacts["gap"]))
     ti = np.lexsort((twin.impacts["t0"], twin.impacts["gap"]))
@@ -99,8 +102,8 @@ def test_against_reference_twin(dt, twin):
     dv0 = np.max(np.abs(r.impacts["v0"][ki] - twin.impacts["v0"][ti])) / vmax
     print(f"MEASURED twin dt={dt}: impact onsets differ by <= {1e3 * dt0:.3f} ms, approach velocities by "
           f"<= {dv0:.2e} of the largest")
-    assert dt0 <= 2e-3
-    assert dv0 <= 0.02
+    assert dt0 <= 2.5e-4  # measured 0.093 ms at both steps
+    assert dv0 <= 1.5e-3  # measured 5.9e-4 at both steps
 
 
 def test_impact_peak_forces_against_reference_twin(twin):
@@ -114,4 +117,4 @@ def test_impact_peak_forces_against_reference_twin(twin):
     err = np.abs(r.impacts["fmax"][ki] / twin.impacts["fmax"][ti] - 1.0)
     print(f"MEASURED impact peak forces vs twin: median error {np.median(err):.2e}, worst {err.max():.2e} "
           f"({err.size} impacts)")
-    assert np.median(err) <= 5e-4 and err.max() <= 1e-2
+    assert np.median(err) <= 5e-4 and err.max() <= 1e-2  # measured 2.8e-4 and 6.3e-3

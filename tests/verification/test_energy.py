@@ -64,9 +64,11 @@ def quiet_steps(r):
     return ~busy
 
 
-@pytest.mark.parametrize("law", ["Hd", "LVe", "Hertz"])
-def test_kernel_energy_balance(law):
-    """|input - (kinetic + strain + damping + contact)| <= 1 % of input at every output step after 1 s."""
+# the exact scheme (the default) closes the balance to the trapezoidal sums of its physical steps
+# (test_exact_scheme.py); measured 2.3e-5 (Hd), 3.6e-5 (LVe), 4.3e-5 (Hertz)
+@pytest.mark.parametrize("law, limit", [("Hd", 6e-5), ("LVe", 1e-4), ("Hertz", 1e-4)])
+def test_kernel_energy_balance(law, limit):
+    """|input - (kinetic + strain + damping + contact)| <= 1e-4 of input at every output step after 1 s."""
     r, _ = run(law)
     assert r.impacts["gap"].size >= 20  # the buildings do pound
     e = r.energy
@@ -74,13 +76,17 @@ def test_kernel_energy_balance(law):
     res = np.abs(e[late, 0] - e[late, 1:].sum(axis=1)) / e[late, 0]
     print(f"MEASURED energy {law}: max |balance residual| / input (t >= 1 s) = {res.max():.2e}, "
           f"{r.impacts['gap'].size} impacts, contact/input at end = {e[-1, 4] / e[-1, 0]:.4f}")
-    assert res.max() <= 0.01
-    assert np.all(e[:, 3] >= -1e-9 * e[-1, 0])  # damping only dissipates
+    assert res.max() <= limit
+    print(f"MEASURED energy {law}: damping energy min {e[:, 3].min() / e[-1, 0]:.1e} of the input")
+    assert np.all(e[:, 3] >= -1e-12 * e[-1, 0])  # damping only dissipates (measured: never below 0)
 
 
-@pytest.mark.parametrize("law", ["Hd", "LVe", "Hertz"])
-def test_energy_columns_recomputed_independently(law):
-    """Kinetic and strain energy exact from (u, v); input, damping and contact within 1 % of the input."""
+# limits on the damping and contact columns against their recomputation (trapezoidal on the output grid):
+# measured 2.9e-3 / 2.6e-3 (Hd), 4.3e-3 / 4.0e-3 (LVe), 4.4e-3 / 4.2e-3 (Hertz) of the input
+@pytest.mark.parametrize("law, limit", [("Hd", 7.5e-3), ("LVe", 0.01), ("Hertz", 0.01)])
+def test_energy_columns_recomputed_independently(law, limit):
+    """Kinetic and strain energy exact from (u, v); input within 0.06 %, damping and contact within 1 % of the
+    input."""
     r, ag = run(law)
     m, K, C = matrices()
     e = r.energy
@@ -88,8 +94,11 @@ def test_energy_columns_recomputed_independently(law):
     scale = e[-1, 0]
     kin = 0.5 * np.einsum("ki,i,ki->k", v, m, v)
     strain = 0.5 * np.einsum("ki,ij,kj->k", u, K, u)
-    assert np.max(np.abs(kin - e[:, 1])) <= 1e-10 * scale
-    assert np.max(np.abs(strain - e[:, 2])) <= 1e-10 * scale
+    print(f"MEASURED energy {law}: kinetic, strain from (u, v) against the kernel's "
+          f"{np.max(np.abs(kin - e[:, 1])) / scale:.1e}, {np.max(np.abs(strain - e[:, 2])) / scale:.1e} of the input")
+    # round-off (measured 1.1e-16 and up to 7.1e-16), ~10x
+    assert np.max(np.abs(kin - e[:, 1])) <= 1.5e-15 * scale
+    assert np.max(np.abs(strain - e[:, 2])) <= 7e-15 * scale
     du = np.diff(u, axis=0)
     inp = np.concatenate([[0.0], np.cumsum(-0.5 * ((ag[:-1] + ag[1:])[:, None] * m * du).sum(axis=1))])
     fd = v @ C
@@ -98,7 +107,8 @@ def test_energy_columns_recomputed_independently(law):
     errs = [np.max(np.abs(x - e[:, c])) / scale for x, c in ((inp, 0), (damp, 3), (contact, 4))]
     print(f"MEASURED energy {law}: independent input/damping/contact differ by "
           f"{errs[0]:.1e} / {errs[1]:.1e} / {errs[2]:.1e} of the input")
-    assert max(errs) <= 0.01
+    assert errs[0] <= 6e-4  # measured 2.4e-4 for the three laws
+    assert max(errs[1:]) <= limit
 
 
 @pytest.mark.parametrize("law", ["Hd", "LVe"])
@@ -109,8 +119,10 @@ def test_contact_energy_is_dissipated(law):
     q = quiet_steps(r)
     assert e[-1, 4] > 0.01 * e[-1, 0]
     ec = e[q, 4]
-    assert np.all(ec >= -1e-12 * e[-1, 0])
-    assert np.all(np.diff(ec) >= -1e-9 * e[-1, 0])
+    print(f"MEASURED energy {law}: contact energy at quiet steps, min {ec.min() / e[-1, 0]:.1e}, "
+          f"largest fall {np.diff(ec).min() / e[-1, 0]:.1e} of the input")
+    assert np.all(ec >= -1e-12 * e[-1, 0])  # measured: never below 0
+    assert np.all(np.diff(ec) >= -1e-12 * e[-1, 0])  # measured: never falls
 
 
 @pytest.mark.parametrize("law", ["Hd", "LVe", "Hertz"])
@@ -140,6 +152,6 @@ def test_elastic_hertz_returns_contact_energy():
     q = quiet_steps(r) & (ke_in > 0)
     worst = np.max(np.abs(e[q, 4]) / ke_in[q])
     print(f"MEASURED energy Hertz: max |contact energy| between impacts / approach KE so far = {worst:.2e} "
-          f"(end: {e[-1, 4]:.3g} J of input {e[-1, 0]:.3g} J)")
-    assert worst <= 1e-3
-    assert abs(e[-1, 4]) <= 1e-4 * e[-1, 0]
+          f"(end: {e[-1, 4]:.3g} J of input {e[-1, 0]:.3g} J, {e[-1, 4] / e[-1, 0]:.2e})")
+    assert worst <= 1e-3  # measured 7.5e-4
+    assert abs(e[-1, 4]) <= 1e-4 * e[-1, 0]  # measured 5.4e-5

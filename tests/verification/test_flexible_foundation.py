@@ -55,8 +55,9 @@ def _building(n, m0, inertia, kx, kt, cx=0.0, ct=0.0, damping=None, floor_inerti
     return Building("A", [M] * n, [k] * n, [H] * n, damping or NoDamping(), foundation=f), k
 
 
-@pytest.mark.parametrize("n", [1, 3, 8])
-def test_eigenvalues_equal_the_relative_formulation(n):
+# round-off (measured 8.9e-16, 8.9e-16, 3.0e-14), so ~10x: it varies with LAPACK / the CPU
+@pytest.mark.parametrize("n, limit", [(1, 1e-14), (3, 1e-14), (8, 3e-13)])
+def test_eigenvalues_equal_the_relative_formulation(n, limit):
     b, k = _building(n, 0.3 * M * n, 0.1 * M * n * (n * H) ** 2, 5e8, 2e10, floor_inertia=2e5)
     Ma, _, Ka = assemble([b], []).matrices()
     w2 = eigh(Ka, Ma, eigvals_only=True)
@@ -65,10 +66,11 @@ def test_eigenvalues_equal_the_relative_formulation(n):
     w2r = eigh(Kr, Mr, eigvals_only=True)
     err = np.abs(w2 / w2r - 1).max()
     print(f"MEASURED {n} storeys on a foundation: eigenvalues against the relative formulation {err:.1e}")
-    assert err <= 1e-11
+    assert err <= limit
 
 
-@pytest.mark.parametrize("m0_ratio, bound", [(1e-6, 1e-6), (0.2, 0.02), (0.5, 0.02), (1.0, 0.02)])
+# measured +1.3e-8 (the formula is exact for a massless foundation), +2.5e-3, +6.5e-3, +1.4e-2
+@pytest.mark.parametrize("m0_ratio, bound", [(1e-6, 3e-8), (0.2, 6e-3), (0.5, 0.015), (1.0, 0.02)])
 def test_one_storey_period_equals_veletsos_meek(m0_ratio, bound):
     """T~/T = 1.18; the formula is exact for a massless foundation, and a foundation as heavy as the
     floor (with rotary inertia m0 h^2 / 4) lengthens the period by 1.4 % more."""
@@ -97,11 +99,12 @@ def test_multistorey_period_within_two_percent_of_veletsos_meek():
     print(f"MEASURED 5 storeys: flexible-base period {T:.4f} s (fixed {2 * math.pi / w[0]:.4f} s), "
           f"Veletsos-Meek {T_vm:.4f} s ({T / T_vm - 1:+.2%})")
     assert T > 1.1 * 2 * math.pi / w[0]  # the soil matters here
-    assert abs(T / T_vm - 1) <= 0.02
+    assert abs(T / T_vm - 1) <= 0.008  # measured +0.33 %
 
 
-@pytest.mark.parametrize("dashpots", [False, True])
-def test_free_vibration_equals_the_matrix_exponential(dashpots):
+# displacement NE at dt = 0.1 ms: measured 2.4e-4 (undamped), 2.7e-6 (with dashpots)
+@pytest.mark.parametrize("dashpots, limit", [(False, 6e-4), (True, 7e-6)])
+def test_free_vibration_equals_the_matrix_exponential(dashpots, limit):
     """Three storeys on a foundation (modes 2.7-23.5 Hz), released with floor velocities; 1 s."""
     n = 3
     cx, ct = (3e6, 8e7) if dashpots else (0.0, 0.0)
@@ -125,23 +128,31 @@ def test_free_vibration_equals_the_matrix_exponential(dashpots):
         balance = np.abs(e[:, 0] - e[:, 1:].sum(axis=1)).max() / e[0, 0]
         print(f"MEASURED free vibration on a foundation (dashpots {dashpots}), dt {dt:g}: displacement NE "
               f"{ne.max():.1e} (worst DOF), energy balance {balance:.1e}")
-        assert balance <= 1e-9
-    assert errs[1] <= 1e-3  # Newmark's period error on the 23.5 Hz mode, 1.2e-4 rad per cycle
-    assert errs[0] / errs[1] >= 3.5  # second order
+        assert balance <= 3e-11  # measured up to 2.7e-12: round-off, ~10x
+    assert errs[1] <= limit  # Newmark's period error on the 23.5 Hz mode, 1.2e-4 rad per cycle
+    assert errs[0] / errs[1] >= 3.5  # second order (measured 4.0, 4.1)
 
 
 def test_cone_impedances_of_a_disk_equal_gazetas():
     soil = Soil(shear_wave_velocity=200.0, density=1900.0, poisson=0.3)
     r = 5.0
     got = cone_impedances(soil, Footing(radius=r))
-    G = 1900.0 * 200.0 ** 2
+    G = 1900.0 * 200.0 ** 2  # the closed forms below are reproduced exactly (measured 0); rel 1e-14: a few ulps
+    vp = 200.0 * math.sqrt(2 * 0.7 / 0.4)
+    square = cone_impedances(soil, Footing(width=2 * r, length=2 * r))
+    soft = cone_impedances(Soil(200.0, 1900.0, 0.45), Footing(radius=r))
+    pairs = [(got["sway_stiffness"], 8 * G * r / (2 - 0.3)),
+             (got["rocking_stiffness"], 8 * G * r ** 3 / (3 * (1 - 0.3))),
+             (got["sway_damping"], 1900.0 * 200.0 * math.pi * r * r),
+             (got["rocking_damping"], 1900.0 * vp * math.pi * r ** 4 / 4),
+             (square["sway_stiffness"], 8 * G * math.sqrt(4 * r * r / math.pi) / 1.7),
+             (soft["trapped_rotary_inertia"], 1.2 * (0.45 - 1 / 3) * 1900.0 * math.pi * r ** 5 / 4)]
+    print("MEASURED cone impedances against Gazetas / Wolf: " + ", ".join(f"{a / b - 1:.1e}" for a, b in pairs))
     assert got["sway_stiffness"] == pytest.approx(8 * G * r / (2 - 0.3), rel=1e-14)  # Gazetas 1991, Table 1
     assert got["rocking_stiffness"] == pytest.approx(8 * G * r ** 3 / (3 * (1 - 0.3)), rel=1e-14)
     assert got["sway_damping"] == pytest.approx(1900.0 * 200.0 * math.pi * r * r, rel=1e-14)
-    vp = 200.0 * math.sqrt(2 * 0.7 / 0.4)
     assert got["rocking_damping"] == pytest.approx(1900.0 * vp * math.pi * r ** 4 / 4, rel=1e-14)
     assert got["trapped_rotary_inertia"] == 0.0
-    square = cone_impedances(soil, Footing(width=2 * r, length=2 * r))
     assert square["sway_stiffness"] == pytest.approx(8 * G * math.sqrt(4 * r * r / math.pi) / 1.7, rel=1e-14)
-    soft = cone_impedances(Soil(200.0, 1900.0, 0.45), Footing(radius=r))
-    assert soft["trapped_rotary_inertia"] == pytest.approx(1.2 * (0.45 - 1 / 3) * 1900.0 * math.pi * r ** 5 / 4)
+    assert soft["trapped_rotary_inertia"] == pytest.approx(1.2 * (0.45 - 1 / 3) * 1900.0 * math.pi * r ** 5 / 4,
+                                                           rel=1e-14)

@@ -37,7 +37,8 @@ def _run(system, t_end=0.05, dt=1e-4):
 def test_impact_against_a_storey_conserves_momentum_and_loses_the_closed_form_energy():
     system = _row()
     (link,) = system.links
-    assert link.kind == "floor-to-storey" and link.right_floor == 2 and link.right_weight == pytest.approx(0.5)
+    assert link.kind == "floor-to-storey" and link.right_floor == 2
+    assert link.right_weight == pytest.approx(0.5, rel=1e-14)  # measured: 0.5 exactly
     raw = _run(system)
     assert raw.driver == "general"
     assert raw.impacts["t0"].size == 1
@@ -52,11 +53,14 @@ def test_impact_against_a_storey_conserves_momentum_and_loses_the_closed_form_en
     dv1, dv2 = v[1], v[2]
     e_sim = raw.impacts["vout"][0] / raw.impacts["v0"][0]
     print(f"MEASURED impact on a storey: momentum {p1 / p0 - 1:+.1e}, energy lost {(ke0 - ke1) / lost - 1:+.1e} of "
-          f"the closed form, impulse split {dv1 * M1 / (dv2 * M2):.6f} (1 expected), restitution {e_sim:.6f}")
-    assert abs(p1 / p0 - 1) <= 1e-6
-    assert abs((ke0 - ke1) / lost - 1) <= 2e-4
-    assert abs(dv1 * M1 / (dv2 * M2) - 1) <= 1e-6  # (1 - w)/w = 1 here
-    assert abs(e_sim / E - 1) <= 1e-4
+          f"the closed form, impulse split {dv1 * M1 / (dv2 * M2):.6f} (1 expected; {dv1 * M1 / (dv2 * M2) - 1:+.1e}), "
+          f"restitution {e_sim:.6f} ({e_sim / E - 1:+.1e}); apparent-mass weight {link.right_weight!r}")
+    # measured: momentum -8.9e-9 (the 1 N/m storey springs over the run), energy lost -2.7e-5 of the closed
+    # form, impulse split +2.8e-9, restitution +2.4e-5; the weight 0.5 exactly
+    assert abs(p1 / p0 - 1) <= 2.5e-8
+    assert abs((ke0 - ke1) / lost - 1) <= 7e-5
+    assert abs(dv1 * M1 / (dv2 * M2) - 1) <= 8e-9  # (1 - w)/w = 1 here
+    assert abs(e_sim / E - 1) <= 6e-5
 
 
 def test_elastic_impact_against_a_storey_keeps_the_energy():
@@ -64,8 +68,8 @@ def test_elastic_impact_against_a_storey_keeps_the_energy():
     m = _row().mass
     v = raw.velocity[-1]
     ke0, ke1 = 0.5 * MA * V0 ** 2, 0.5 * float(m @ (v * v))
-    print(f"MEASURED elastic impact on a storey: kinetic energy {ke1 / ke0 - 1:+.1e}")
-    assert abs(ke1 / ke0 - 1) <= 1e-5
+    print(f"MEASURED elastic impact on a storey: kinetic energy {ke1 / ke0 - 1:+.2e}")
+    assert abs(ke1 / ke0 - 1) <= 3.5e-6  # measured -1.34e-6
 
 
 def test_heights_coinciding_is_the_floor_to_floor_gap():
@@ -77,7 +81,7 @@ def test_heights_coinciding_is_the_floor_to_floor_gap():
     dv = float(np.abs(near.velocity - level.velocity).max() / np.abs(level.velocity).max())
     df = float(abs(near.peak_force[0] / level.peak_force[0] - 1))
     print(f"MEASURED heights 0.1 mm apart against coinciding: velocities {dv:.1e}, peak force {df:.1e}")
-    assert dv <= 1e-4 and df <= 1e-4
+    assert dv <= 5e-5 and df <= 1.5e-5  # measured 1.8e-5 and 5.6e-6
 
 
 def test_levels_choose_the_elements():

@@ -121,7 +121,8 @@ def test_mlve_closed_form_both_branches(e):
         s1, s2 = w * (-xi + r), w * (-xi - r)
         t1 = math.log(s2 / s1) / (s1 - s2)
         dmax = (math.exp(s1 * t1) - math.exp(s2 * t1)) / (s1 - s2)
-    assert e_mlve(e) == pytest.approx(w * dmax, rel=1e-12)
+    print(f"MEASURED MLVe closed form e={e}: formula / explicit solution - 1 = {e_mlve(e) / (w * dmax) - 1:.1e}")
+    assert e_mlve(e) == pytest.approx(w * dmax, rel=5e-15)  # measured <= 4.4e-16: round-off, ~10x
 
 
 def test_lve_clamped_closed_form_by_quadrature():
@@ -135,64 +136,100 @@ def test_lve_clamped_closed_form_by_quadrature():
         dsp = np.exp(-xi * w * t) * np.sin(wd * t) / wd
         force = dsp + 2.0 * xi * vel  # k delta + c delta' with k = m_eff = 1, v0 = 1
         k = np.nonzero(force < 0.0)[0][0]
-        assert abs(vel[k]) == pytest.approx(e_lve_clamped(e), rel=1e-4)
+        print(f"MEASURED clamped LVe e={e}: quadrature / closed form - 1 = {abs(vel[k]) / e_lve_clamped(e) - 1:.2e}")
+        # the grid's first sample past delta'' = 0, where delta' is stationary: measured <= 9.2e-11
+        assert abs(vel[k]) == pytest.approx(e_lve_clamped(e), rel=2.5e-10)
         assert e_lve_clamped(e) > e  # earlier, faster separation than with tension
 
 
 # ---------------------------------------------------------------------------
 # the kernel
 # ---------------------------------------------------------------------------
+# limits on |e_sim / e - 1|, each about 2.5x the error measured (in the comment)
+EXACT_LAW_LIMIT = {
+    ("LVe", 0.3): 1e-3,  # measured 3.6e-4
+    ("LVe", 0.5): 5e-4,  # 2.1e-4
+    ("LVe", 0.7): 3e-4,  # 1.1e-4
+    ("LVe", 0.9): 8e-5,  # 3.1e-5
+    ("Hd", 0.3): 3.5e-4,  # 1.3e-4
+    ("Hd", 0.5): 3.5e-4,  # 1.4e-4
+    ("Hd", 0.7): 2.5e-4,  # 9.4e-5
+    ("Hd", 0.9): 8e-5,  # 3.1e-5
+    ("LHC", 0.3): 7e-4,  # 2.8e-4
+    ("LHC", 0.5): 8e-4,  # 3.2e-4
+    ("LHC", 0.7): 6e-4,  # 2.2e-4
+    ("LHC", 0.9): 2e-4,  # 7.4e-5
+}
+
+
 @pytest.mark.parametrize("law", ["LVe", "Hd", "LHC"])
 @pytest.mark.parametrize("e", E_TARGETS)
 def test_exact_laws_reach_target(law, e):
-    """LVe (tension allowed, the default), Hd and LHC: simulated e within 0.5 % of the target."""
+    """LVe (tension allowed, the default), Hd and LHC: simulated e within 0.1 % of the target."""
     e_sim = restitution(simulate(law, e))
     print(f"MEASURED restitution {law} e={e}: {e_sim:.5f} (err {e_sim / e - 1:+.2e})")
-    assert abs(e_sim / e - 1.0) <= 5e-3
+    assert abs(e_sim / e - 1.0) <= EXACT_LAW_LIMIT[law, e]
 
 
-@pytest.mark.parametrize("e", (0.2,) + E_TARGETS)
-def test_mlve_matches_closed_form(e):
-    """MLVe: simulated e = exp(-xi acos(xi)/sqrt(1-xi^2)) (overdamped branch for e = 0.2) within 0.5 %."""
+# limits on |e_sim / e_closed_form - 1|: measured 3.9e-4, 2.9e-4, 1.7e-4, 9.5e-5, 3.0e-5
+@pytest.mark.parametrize("e, limit", [(0.2, 1e-3), (0.3, 7.5e-4), (0.5, 4.5e-4), (0.7, 2.5e-4), (0.9, 8e-5)])
+def test_mlve_matches_closed_form(e, limit):
+    """MLVe: simulated e = exp(-xi acos(xi)/sqrt(1-xi^2)) (overdamped branch for e = 0.2) within 0.1 %."""
     e_sim = restitution(simulate("MLVe", e))
     e_cf = e_mlve(e)
     print(f"MEASURED restitution MLVe e={e}: {e_sim:.5f}, closed form {e_cf:.5f} (err {e_sim / e_cf - 1:+.2e})")
-    assert abs(e_sim / e_cf - 1.0) <= 5e-3
+    assert abs(e_sim / e_cf - 1.0) <= limit
     assert e_sim > e  # MLVe under-dissipates (Mahmoud's xi is not the exact one)
 
 
-@pytest.mark.parametrize("e", E_TARGETS)
-def test_lve_without_tension_matches_clamped_closed_form(e):
-    """LVe with tension=False: simulated e = closed form of the clamped oscillator within 0.5 %."""
+# limits on |e_sim / e_closed_form - 1|: measured 3.6e-4, 3.8e-4, 3.2e-4, 1.5e-4
+@pytest.mark.parametrize("e, limit", [(0.3, 1e-3), (0.5, 1e-3), (0.7, 8e-4), (0.9, 4e-4)])
+def test_lve_without_tension_matches_clamped_closed_form(e, limit):
+    """LVe with tension=False: simulated e = closed form of the clamped oscillator within 0.1 %."""
     e_sim = restitution(simulate("LVe", e, tension=False))
     e_cf = e_lve_clamped(e)
     print(f"MEASURED restitution LVe(no tension) e={e}: {e_sim:.5f}, closed form {e_cf:.5f} "
           f"(err {e_sim / e_cf - 1:+.2e})")
-    assert abs(e_sim / e_cf - 1.0) <= 5e-3
+    assert abs(e_sim / e_cf - 1.0) <= limit
+
+
+# limits on |e_sim / e_twin - 1|, each about 2.5x the error measured (in the comment)
+TWIN_LAW_LIMIT = {
+    ("NIVe", 0.3): 3.5e-3,  # measured 1.4e-3
+    ("NIVe", 0.5): 1.6e-3,  # 6.5e-4
+    ("NIVe", 0.7): 8e-4,  # 3.0e-4
+    ("NIVe", 0.9): 2.5e-4,  # 8.7e-5
+    ("Hertzdamp", 0.3): 2.5e-4,  # 9.0e-5
+    ("Hertzdamp", 0.5): 2e-4,  # 8.0e-5
+    ("Hertzdamp", 0.7): 1.5e-4,  # 5.7e-5
+    ("Hertzdamp", 0.9): 6e-5,  # 2.1e-5
+}
 
 
 @pytest.mark.parametrize("law", ["NIVe", "Hertzdamp"])
 @pytest.mark.parametrize("e", E_TARGETS)
 def test_no_closed_form_laws_match_twin(law, e):
-    """NIVe and classic Hertzdamp: simulated e within 0.5 % of the reference twin's."""
+    """NIVe and classic Hertzdamp: simulated e within 0.35 % of the reference twin's."""
     e_sim = restitution(simulate(law, e))
     e_ref = twin_restitution(law, e)
     print(f"MEASURED restitution {law} e={e}: kernel {e_sim:.5f}, twin {e_ref:.5f} (err {e_sim / e_ref - 1:+.2e})")
-    assert abs(e_sim / e_ref - 1.0) <= 5e-3
+    assert abs(e_sim / e_ref - 1.0) <= TWIN_LAW_LIMIT[law, e]
 
 
 def test_hertz_is_elastic():
-    """Hertz (e = 1): vout = v0 within 0.1 %."""
+    """Hertz (e = 1): vout = v0 within 2e-5."""
     e_sim = restitution(simulate("Hertz", 1.0))
-    print(f"MEASURED restitution Hertz: {e_sim:.6f}")
-    assert abs(e_sim - 1.0) <= 1e-3
+    print(f"MEASURED restitution Hertz: {e_sim:.6f} (err {e_sim - 1:+.2e})")
+    assert abs(e_sim - 1.0) <= 2e-5  # measured -7.5e-6
 
 
 def test_twin_reaches_exact_targets():
-    """The twin itself: Hd, LHC and LVe give e to 1e-4 (validates the twin's event handling)."""
+    """The twin itself: Hd, LHC and LVe give e to 1e-4 or better (validates the twin's event handling)."""
+    limit = {"Hd": 1e-4, "LHC": 8e-6, "LVe": 7e-6}  # measured (worst of e 0.3, 0.7) 3.4e-5, 2.9e-6, 2.5e-6
     for law in ("Hd", "LHC", "LVe"):
         for e in (0.3, 0.7):
-            assert abs(twin_restitution(law, e) / e - 1.0) <= 1e-4
+            print(f"MEASURED twin {law} e={e}: {twin_restitution(law, e) / e - 1.0:+.2e}")
+            assert abs(twin_restitution(law, e) / e - 1.0) <= limit[law]
 
 
 # ---------------------------------------------------------------------------
@@ -211,8 +248,9 @@ def test_hunt_crossley_force_never_tensile(law, e):
     assert f.min() >= 0.0
 
 
-@pytest.mark.parametrize("e", E_TARGETS)
-def test_lve_tension_at_end_of_impact(e):
+# limit on the force history's error / peak: measured 1.1e-4, 1.6e-4, 2.2e-4, 2.7e-4
+@pytest.mark.parametrize("e, limit", [(0.3, 3e-4), (0.5, 4e-4), (0.7, 5.5e-4), (0.9, 7e-4)])
+def test_lve_tension_at_end_of_impact(e, limit):
     """LVe default: negative (tensile) force in the last part of the impact; tension=False: never."""
     r = simulate("LVe", e, **FINE)
     f = r.force[:, 0]
@@ -221,7 +259,7 @@ def test_lve_tension_at_end_of_impact(e):
     assert neg.size >= 1
     assert np.all(neg > t0 + 0.5 * dur) and np.all(neg <= t0 + dur)
     # the whole history follows the closed form F = k delta + c delta' of the damped
-    # oscillator delta = v0 / w_d exp(-xi w t) sin(w_d t) (free bodies) within 1 % of the peak
+    # oscillator delta = v0 / w_d exp(-xi w t) sin(w_d t) (free bodies) within 0.07 % of the peak
     xi = lve_xi(e)
     c = 2.0 * xi * math.sqrt(K_LINEAR * MEFF)
     w = math.sqrt(K_LINEAR / MEFF)
@@ -233,8 +271,9 @@ def test_lve_tension_at_end_of_impact(e):
     f_cf = K_LINEAR * dsp + c * vel
     err = np.max(np.abs(f[inside] - f_cf)) / np.max(np.abs(f_cf))
     print(f"MEASURED LVe e={e}: force history vs closed form, max error / peak = {err:.2e}")
-    assert err <= 0.01
-    assert dur == pytest.approx(math.pi / wd, rel=2e-3)  # half a damped period
+    assert err <= limit
+    print(f"MEASURED LVe e={e}: duration / half a damped period - 1 = {dur / (math.pi / wd) - 1:+.2e}")
+    assert dur == pytest.approx(math.pi / wd, rel=2.5e-4)  # half a damped period; measured 4.4e-5 to 9.3e-5
     r_clamped = simulate("LVe", e, tension=False, **FINE)
     assert r_clamped.force[:, 0].min() >= 0.0
     assert np.count_nonzero(r_clamped.force[:, 0] > 0) >= 20
@@ -245,34 +284,44 @@ def test_catalogue_peak_force_includes_onset_jump():
     with a force jump (MLVe, e = 0.3: F(0+) = c v0 is the largest force of the impact)."""
     r = simulate("MLVe", 0.3)
     c = 2.0 * mlve_xi(0.3) * math.sqrt(K_LINEAR * MEFF)
-    assert r.peak_force[0] == pytest.approx(c * V0, rel=1e-12)
-    assert r.impacts["fmax"][0] == pytest.approx(r.peak_force[0], rel=1e-12)
+    print(f"MEASURED MLVe e=0.3: peak force / c v0 - 1 = {r.peak_force[0] / (c * V0) - 1:.1e}, "
+          f"catalogue / history - 1 = {r.impacts['fmax'][0] / r.peak_force[0] - 1:.1e}")
+    # measured: equal, bit for bit; a few ulps allowed
+    assert r.peak_force[0] == pytest.approx(c * V0, rel=1e-14)
+    assert r.impacts["fmax"][0] == pytest.approx(r.peak_force[0], rel=1e-14)
 
 
 # ---------------------------------------------------------------------------
 # zeta v0 of Hd is a function of e only (seed Eq. 8)
 # ---------------------------------------------------------------------------
-@pytest.mark.parametrize("e", E_TARGETS)
-def test_hd_zeta_times_v0_is_constant(e):
+# limit on |vout / v0 / e - 1| over the three velocities: measured 1.5e-4, 1.7e-4, 1.2e-4, 3.5e-5
+@pytest.mark.parametrize("e, limit", [(0.3, 4e-4), (0.5, 4.5e-4), (0.7, 3e-4), (0.9, 1e-4)])
+def test_hd_zeta_times_v0_is_constant(e, limit):
     """Across approach velocities 0.05, 0.1, 0.2 m/s: zeta v0 = k / x with x the brentq root of Eq. 8."""
     expected = K_HERTZ / hunt_crossley_x(e)
-    vals = []
+    vals, dv, de = [], 0.0, 0.0
     for v0 in (0.05, 0.1, 0.2):
         imp = simulate("Hd", e, v0=v0).impacts
-        assert imp["v0"][0] == pytest.approx(v0, rel=1e-12)
+        dv = max(dv, abs(imp["v0"][0] / v0 - 1))
+        de = max(de, abs(imp["vout"][0] / imp["v0"][0] / e - 1.0))
+        assert imp["v0"][0] == pytest.approx(v0, rel=1e-14)  # measured: equal; a few ulps allowed
         vals.append(imp["zeta"][0] * imp["v0"][0])
         # and the restitution stays e, whatever the velocity
-        assert abs(imp["vout"][0] / imp["v0"][0] / e - 1.0) <= 5e-3
+        assert abs(imp["vout"][0] / imp["v0"][0] / e - 1.0) <= limit
     vals = np.array(vals)
-    print(f"MEASURED Hd e={e}: zeta*v0 = {vals}, brentq k/x = {expected:.10g}")
-    assert np.max(np.abs(vals / expected - 1.0)) <= 1e-10
+    print(f"MEASURED Hd e={e}: zeta*v0 = {vals}, brentq k/x = {expected:.10g} "
+          f"(worst {np.max(np.abs(vals / expected - 1.0)):.1e}); v0 {dv:.1e}; e {de:.2e}")
+    assert np.max(np.abs(vals / expected - 1.0)) <= 3e-13  # measured <= 2.7e-14: round-off, ~10x
 
 
 # ---------------------------------------------------------------------------
 # the peak force between substeps (LVe closed form)
 # ---------------------------------------------------------------------------
-@pytest.mark.parametrize("e", E_TARGETS)
-def test_peak_force_between_substeps_against_closed_form(e):
+# limits at 8 and 16 substeps; measured 1.7e-3 / 8.7e-4 (e 0.3), 3.3e-3 / 8.3e-4 (0.5), 2.1e-3 / 7.1e-4 (0.7),
+# 8.4e-4 / 2.1e-4 (0.9); the docstring's 0.4 % / 0.1 % kept where tighter than 3x
+@pytest.mark.parametrize("e, limit8, limit16", [(0.3, 4e-3, 1e-3), (0.5, 4e-3, 1e-3), (0.7, 4e-3, 1e-3),
+                                                (0.9, 2e-3, 5e-4)])
+def test_peak_force_between_substeps_against_closed_form(e, limit8, limit16):
     """LVe two-body impact: delta = v0/w_d exp(-xi w t) sin(w_d t), F = k delta + c delta' (seed
     Eqs. 1-3), its maximum found on 200 001 points of the closed form.  The kernel's peak (the
     vertex of the parabola through the samples around the largest, ``_contact._peak_through``) is
@@ -294,5 +343,5 @@ def test_peak_force_between_substeps_against_closed_form(e):
         errors.append(abs(r.peak_force[0] / f_ref - 1))
         assert r.impacts["fmax"][0] == r.peak_force[0]
     print(f"MEASURED LVe e={e}: peak force error at 8/16/32 substeps {errors[0]:.2e} {errors[1]:.2e} {errors[2]:.2e}")
-    assert errors[0] <= 4e-3 and errors[1] <= 1e-3
+    assert errors[0] <= limit8 and errors[1] <= limit16
     assert errors[2] <= errors[1] / 2.5

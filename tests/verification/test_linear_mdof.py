@@ -83,12 +83,17 @@ def test_modal_reference_agrees_with_twin(exact_peaks, twin_peaks_A):
     """The two independent references agree (lsim vs event-free solve_ivp): a check of the checks."""
     rel = np.abs(exact_peaks["A"][0] / twin_peaks_A - 1.0)
     print(f"MEASURED linear: modal (0.0025 grid) vs twin (dense) peak diff max {rel.max():.2e}")
-    assert rel.max() <= 2e-4  # = grid sampling of the modal peaks; the twin's peaks are dense
+    assert rel.max() <= 1.5e-4  # measured 6.4e-5 = grid sampling of the modal peaks; the twin's peaks are dense
 
 
-@pytest.mark.parametrize("dt, tol", [(0.01, 0.01), (0.0025, 0.001)])
-def test_five_storey_peaks(dt, tol, exact_peaks, twin_peaks_A):
-    """Peak floor displacements within 1 % (dt = 0.01) and 0.1 % (dt = 0.0025) of modal superposition and twin."""
+# limits on the peak error against modal superposition and against the twin: at dt = 0.01 the output
+# sampling of the peaks (measured 2.0e-3 for both); at 0.0025, the modal grid itself, the scheme is exact
+# for the piecewise-linear record: round-off against modal (measured 8.9e-16, limit ~10x), the twin's own
+# peak-sampling difference (6.4e-5)
+@pytest.mark.parametrize("dt, tol_modal, tol_twin", [(0.01, 5e-3, 5e-3), (0.0025, 1e-14, 1.5e-4)])
+def test_five_storey_peaks(dt, tol_modal, tol_twin, exact_peaks, twin_peaks_A):
+    """Peak floor displacements within 0.5 % (dt = 0.01) of modal superposition and twin; at dt = 0.0025
+    equal to modal superposition to round-off and to the twin within 0.015 %."""
     b = shear_building("A", 5, 0.5)
     ag, nsteps = el_centro(T_END, dt)
     r = integrate(assemble([b], []), ag, dt, nsteps)
@@ -97,17 +102,18 @@ def test_five_storey_peaks(dt, tol, exact_peaks, twin_peaks_A):
     err_twin = np.abs(r.peak_displacement / twin_peaks_A - 1.0)
     print(f"MEASURED linear 5-storey dt={dt}: peak error vs modal {err_modal.max():.2e}, "
           f"vs twin {err_twin.max():.2e}")
-    assert err_modal.max() <= tol
-    assert err_twin.max() <= tol
+    assert err_modal.max() <= tol_modal
+    assert err_twin.max() <= tol_twin
     if dt == 0.0025:
         # whole history on the common grid, relative to the peak
         u_ex = exact_peaks["A"][1]
         hist = np.max(np.abs(r.displacement - u_ex)) / exact_peaks["A"][0].max()
         print(f"MEASURED linear 5-storey dt={dt}: max history error / peak {hist:.2e}")
-        assert hist <= 2e-3
+        assert hist <= 2e-14  # measured 1.7e-15: round-off, ~10x
 
 
-@pytest.mark.parametrize("dt, tol", [(0.01, 0.01), (0.0025, 0.001)])
+# measured 2.0e-3 (output sampling of the peaks at dt = 0.01) and 4.5e-14 (round-off at 0.0025: ~10x)
+@pytest.mark.parametrize("dt, tol", [(0.01, 5e-3), (0.0025, 5e-13)])
 def test_row_of_three_without_contact(dt, tol, exact_peaks):
     """Three buildings with 10 m gaps (never closing): every floor's peak vs each building's modal solution."""
     ag, nsteps = el_centro(T_END, dt)
@@ -130,7 +136,7 @@ def test_row_of_three_without_contact(dt, tol, exact_peaks):
 
 
 def test_open_gaps_reproduce_uncoupled_buildings_exactly():
-    """Row with gaps of 10 m = each building run alone, bit for bit (or <= 1e-14 relative)."""
+    """Row with gaps of 10 m = each building run alone, bit for bit (or to round-off)."""
     dt = 0.01
     ag, nsteps = el_centro(T_END, dt)
     bs = row()
@@ -147,10 +153,12 @@ def test_open_gaps_reproduce_uncoupled_buildings_exactly():
             a_one = getattr(alone, name)
             diff = np.max(np.abs(a_row - a_one)) / np.max(np.abs(a_one))
             worst = max(worst, diff)
+        print(f"MEASURED linear: row peaks {b.name} equal bit for bit: "
+              f"{np.array_equal(r.peak_displacement[sl_], alone.peak_displacement)}")
         assert np.array_equal(r.peak_displacement[sl_], alone.peak_displacement) or \
-            np.max(np.abs(r.peak_displacement[sl_] / alone.peak_displacement - 1)) <= 1e-14
+            np.max(np.abs(r.peak_displacement[sl_] / alone.peak_displacement - 1)) <= 2.5e-15  # measured: equal
     print(f"MEASURED linear: row (gap 10 m) vs buildings alone, max relative difference {worst:.1e}")
-    assert worst <= 1e-14
+    assert worst <= 2.5e-15  # measured 2.3e-16 (one ulp): round-off, ~10x
 
 
 def test_block_diagonal_assembly_matches_independent_matrices():
@@ -160,7 +168,14 @@ def test_block_diagonal_assembly_matches_independent_matrices():
     blocks = [shear_matrices(b.floor_masses, b.storey_stiffness, *b.rayleigh_coefficients()) for b in bs]
     K = sl.block_diag(*[blk[1] for blk in blocks])
     C = sl.block_diag(*[blk[2] for blk in blocks])
-    assert np.allclose(sysrow.stiffness_matrix(), K, rtol=1e-14, atol=0)
-    assert np.allclose(sysrow.damping_matrix(), C, rtol=1e-12, atol=1e-9 * np.abs(C).max())
+    dK = np.abs(sysrow.stiffness_matrix() - K).max() / np.abs(K).max()
+    dC = np.abs(sysrow.damping_matrix() - C).max() / np.abs(C).max()
+    nz = K != 0
+    rK = np.abs(sysrow.stiffness_matrix()[nz] / K[nz] - 1).max()
+    print(f"MEASURED linear: assembled K, C against the block diagonal, max difference / max entry {dK:.1e}, {dC:.1e}; "
+          f"K entrywise {rK:.1e}")
+    assert np.allclose(sysrow.stiffness_matrix(), K, rtol=1e-14, atol=0)  # measured: equal
+    # measured: equal, bit for bit; a few ulps allowed for another BLAS / CPU
+    assert np.allclose(sysrow.damping_matrix(), C, rtol=1e-14, atol=1e-14 * np.abs(C).max())
     # gap elements join floor f of A with floor f of B (same elevation), bottom up
     assert list(zip(sysrow.gap_i[:5], sysrow.gap_j[:5])) == [(f, 5 + f) for f in range(5)]

@@ -39,7 +39,7 @@ def test_first_axial_frequency_converges_to_c_over_2L():
         w = np.sqrt(np.abs(eigh(K, M, eigvals_only=True)))
         errs.append(w[1] / (2 * math.pi) / (C / 2.0) - 1)
     print("MEASURED first axial frequency against c/2L, N = 4, 8, 16, 32:", ", ".join(f"{e:+.1e}" for e in errs))
-    assert abs(errs[-1]) <= 5e-4
+    assert abs(errs[-1]) <= 5e-4  # measured -4.0e-4: the lumped rod's O(1/N^2) error at N = 32
     assert all(3.9 <= errs[k] / errs[k + 1] <= 4.1 for k in range(3))  # O(1/N^2), from below
     assert all(e < 0 for e in errs)
 
@@ -60,16 +60,19 @@ def _impact(l1, l2, n1, n2, v0=0.1, dt=1e-5):
     return dict(e=(V[1] - V[0]) / v0, V=V, duration=episode, force=float(raw.force[mid, 0].mean()), n=imp["t0"].size)
 
 
-@pytest.mark.parametrize("n", [100, 200])
-def test_saint_venant_equal_rods(n):
+# limits on the mean force's error and the striker's final velocity / v0: measured -0.17 % and 5.4e-3 (N = 100),
+# +0.29 % and 3.5e-3 (N = 200)
+@pytest.mark.parametrize("n, force_limit, v_limit", [(100, 4.5e-3, 0.015), (200, 7.5e-3, 0.01)])
+def test_saint_venant_equal_rods(n, force_limit, v_limit):
     got = _impact(1.0, 1.0, n, n)
     plateau = MASS_PER_LENGTH * C * 0.1 / 2  # rho c A v0 / 2
     print(f"MEASURED equal rods, N = {n}: contact {got['duration'] / (2.0 / C) - 1:+.2%} of 2L/c, mean force "
-          f"{got['force'] / plateau - 1:+.2%} of rho c A v0/2, e = {got['e']:.4f} (1), {got['n']} contact(s)")
-    assert abs(got["duration"] / (2.0 / C) - 1) <= 0.01
-    assert abs(got["force"] / plateau - 1) <= 0.01
-    assert abs(got["e"] - 1) <= 0.015
-    assert abs(got["V"][0]) <= 0.015 * 0.1  # the striker stops
+          f"{got['force'] / plateau - 1:+.2%} of rho c A v0/2, e = {got['e']:.4f} (1), {got['n']} contact(s); "
+          f"striker's velocity {got['V'][0] / 0.1:+.2e} of v0")
+    assert abs(got["duration"] / (2.0 / C) - 1) <= 0.01  # measured +0.64 % (N = 100), +0.86 % (N = 200)
+    assert abs(got["force"] / plateau - 1) <= force_limit
+    assert abs(got["e"] - 1) <= 0.015  # measured 1 - e = 0.0109 (N = 100), 0.0069 (N = 200)
+    assert abs(got["V"][0]) <= v_limit * 0.1  # the striker stops
 
 
 def test_saint_venant_short_rod_strikes_long_one():
@@ -78,9 +81,9 @@ def test_saint_venant_short_rod_strikes_long_one():
     print("MEASURED short on long rod, N_short = 50, 100, 200: e against L_short/L_long "
           + ", ".join(f"{e:+.2%}" for e in errs) + f"; contact {got[-1]['duration'] / (1.0 / C) - 1:+.2%} of "
           "2 L_short / c")
-    assert abs(errs[-1]) <= 0.015
+    assert abs(errs[-1]) <= 0.015  # measured +1.39 %: the discrete rods' error at N_short = 200
     assert abs(errs[2]) < abs(errs[1]) < abs(errs[0])  # converging
-    assert abs(got[-1]["duration"] / (1.0 / C) - 1) <= 0.025
+    assert abs(got[-1]["duration"] / (1.0 / C) - 1) <= 0.025  # measured +2.01 %
 
 
 def test_stiff_rod_floors_move_as_lumped_floors():
@@ -98,8 +101,8 @@ def test_stiff_rod_floors_move_as_lumped_floors():
     u = stiff.displacement @ rod.outputs.sensor.T
     err = float(np.abs(u - lumped.displacement).max() / np.abs(lumped.displacement).max())
     df = float(abs(stiff.peak_force.max() / lumped.peak_force.max() - 1))
-    print(f"MEASURED stiff rod floors against lumped ones: displacement {err:.1e}, peak force {df:.1e}")
-    assert err <= 1e-4 and df <= 1e-3
+    print(f"MEASURED stiff rod floors against lumped ones: displacement {err:.2e}, peak force {df:.2e}")
+    assert err <= 2e-7 and df <= 1.25e-6  # measured 8.4e-8 and 5.0e-7
 
 
 def test_attachment_joint_mode():
@@ -113,7 +116,7 @@ def test_attachment_joint_mode():
     w2 = np.sort(eigh(K, M, eigvals_only=True))
     exact = k_j * (1 / 400.0 + 1 / m_a)
     joint = w2[np.argmin(np.abs(w2 - exact))]
-    print(f"MEASURED joint mode: {joint / exact - 1:+.1e} of k_j (1/m + 1/m_a)")
-    assert abs(joint / exact - 1) <= 1e-6
+    print(f"MEASURED joint mode: {joint / exact - 1:+.2e} of k_j (1/m + 1/m_a)")
+    assert abs(joint / exact - 1) <= 1.2e-8  # measured -4.4e-9 (the rod's finite stiffness)
     # the gap acts on the attachment (the right face faces B), with the whole body's mass in the law
     assert system.gap_i[0] == int(np.flatnonzero(system.dof_kind == 4)[0])

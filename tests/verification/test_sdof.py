@@ -83,7 +83,7 @@ def amplification_matrix(dt, beta, gamma, xi=0.0):
 
 @pytest.mark.parametrize("ratio", [0.05, 0.1])
 def test_average_acceleration_is_the_closed_form_discrete_solution(ratio):
-    """u_n = (V/w) sin(n Omega), Omega = 2 arctan(w dt/2): exact to 1e-9 of the amplitude over 10 periods."""
+    """u_n = (V/w) sin(n Omega), Omega = 2 arctan(w dt/2): exact to round-off over 10 periods."""
     dt = ratio * PERIOD
     r = run(dt, 10 * PERIOD)
     n = np.arange(r.time.size)
@@ -91,15 +91,17 @@ def test_average_acceleration_is_the_closed_form_discrete_solution(ratio):
     exact = V0 / OMEGA * np.sin(n * big_omega)
     err = np.max(np.abs(r.displacement[:, 0] - exact)) / (V0 / OMEGA)
     print(f"MEASURED sdof dt/T={ratio}: max |u - (V/w) sin(n Omega)| / (V/w) = {err:.2e}")
-    assert err <= 1e-9, err
+    assert err <= 5e-13, err  # measured 4.8e-14 / 2.4e-14: round-off, so ~10x (it varies with the CPU)
     # the continuous closed form V/w sin(w t) is NOT reproduced: the phase drifts
     cont = V0 / OMEGA * np.sin(OMEGA * r.time)
     assert np.max(np.abs(r.displacement[:, 0] - cont)) / (V0 / OMEGA) > 0.1
 
 
-@pytest.mark.parametrize("ratio, chopra_fig_552", [(0.05, (0.007, 0.009)), (0.1, (0.030, 0.034))])
-def test_period_elongation(ratio, chopra_fig_552):
-    """Period from interpolated zero crossings = T_bar to 1e-6; elongation as in Chopra Fig. 5.5.2.
+# limit on |T_meas / T_bar - 1| (the error of the interpolated crossings): measured -5.9e-9 and -5.5e-7
+@pytest.mark.parametrize("ratio, chopra_fig_552, limit", [(0.05, (0.007, 0.009), 1.5e-8),
+                                                          (0.1, (0.030, 0.034), 1e-6)])
+def test_period_elongation(ratio, chopra_fig_552, limit):
+    """Period from interpolated zero crossings = T_bar to 1e-6 or better; elongation as in Chopra Fig. 5.5.2.
 
     The crossings are located on a cubic through four samples; over 50 periods the
     interpolation error of the first and last crossing is < 1e-7 of the span
@@ -113,10 +115,13 @@ def test_period_elongation(ratio, chopra_fig_552):
     t_bar = newmark_period(dt)
     elongation = measured / PERIOD - 1.0
     print(f"MEASURED sdof dt/T={ratio}: T_meas/T_bar - 1 = {measured / t_bar - 1.0:.2e}, "
-          f"elongation {elongation:.6f} (formula {math.pi * ratio / math.atan(math.pi * ratio) - 1.0:.6f})")
-    assert abs(measured / t_bar - 1.0) <= 1e-6, (measured, t_bar)
+          f"elongation {elongation:.6f} (formula {math.pi * ratio / math.atan(math.pi * ratio) - 1.0:.6f}, "
+          f"difference {elongation - (math.pi * ratio / math.atan(math.pi * ratio) - 1.0):.2e})")
+    assert abs(measured / t_bar - 1.0) <= limit, (measured, t_bar)
     # formula: T_bar/T = pi (dt/T) / arctan(pi dt/T); leading term (w dt)^2 / 12
-    assert abs(elongation - (math.pi * ratio / math.atan(math.pi * ratio) - 1.0)) <= 2e-6
+    # measured -5.9e-9 / -5.7e-7 (the same crossing error, times T_bar / T)
+    formula = math.pi * ratio / math.atan(math.pi * ratio) - 1.0
+    assert abs(elongation - formula) <= (1.5e-8 if ratio == 0.05 else 1.5e-6)
     assert abs(elongation / ((OMEGA * dt) ** 2 / 12.0) - 1.0) < 0.05
     lo, hi = chopra_fig_552  # read off Chopra Fig. 5.5.2 (average acceleration curve)
     assert lo <= elongation <= hi
@@ -124,17 +129,20 @@ def test_period_elongation(ratio, chopra_fig_552):
 
 @pytest.mark.parametrize("ratio", [0.05, 0.1, 0.5])
 def test_no_numerical_damping(ratio):
-    """Average acceleration: w^2 u^2 + v^2 = V^2 at every step to 1e-9 (Chopra Fig. 5.5.1: no amplitude decay)."""
+    """Average acceleration: w^2 u^2 + v^2 = V^2 at every step to round-off (Chopra Fig. 5.5.1: no amplitude decay)."""
     dt = ratio * PERIOD
     r = run(dt, 10 * PERIOD)
     u = r.displacement[:, 0]
     v = r.velocity[:, 0]
     amp = np.sqrt(u**2 + (v / OMEGA) ** 2) / (V0 / OMEGA)
-    print(f"MEASURED sdof dt/T={ratio}: amplitude drift {np.max(np.abs(amp - 1.0)):.2e}")
-    assert np.max(np.abs(amp - 1.0)) <= 1e-9
-    # kernel energy bookkeeping agrees: kinetic + strain constant
     e = r.energy
-    assert np.max(np.abs(e[:, 1] + e[:, 2] - 0.5 * MASS * V0**2)) <= 1e-9 * 0.5 * MASS * V0**2
+    ke_drift = np.max(np.abs(e[:, 1] + e[:, 2] - 0.5 * MASS * V0**2)) / (0.5 * MASS * V0**2)
+    print(f"MEASURED sdof dt/T={ratio}: amplitude drift {np.max(np.abs(amp - 1.0)):.2e}, "
+          f"kinetic + strain energy drift {ke_drift:.2e}")
+    # round-off (measured up to 4.9e-14 and 9.9e-14), so ~10x: it varies with the CPU
+    assert np.max(np.abs(amp - 1.0)) <= 5e-13
+    # kernel energy bookkeeping agrees: kinetic + strain constant
+    assert ke_drift <= 1e-12
 
 
 @pytest.mark.parametrize("ratio", [0.05, 0.1])
@@ -159,7 +167,9 @@ def test_numerical_damping_gamma_06(ratio):
     # (0) the kernel follows the amplification matrix
     x = np.column_stack([r.displacement[:, 0], r.velocity[:, 0], r.acceleration[:, 0]])
     scale = np.abs(x).max(axis=0)
-    assert np.max(np.abs((x[1:] - x[:-1] @ A.T) / scale)) <= 1e-9
+    print(f"MEASURED sdof gamma=0.6 dt/T={ratio}: kernel against x_(n+1) = A x_n "
+          f"{np.max(np.abs((x[1:] - x[:-1] @ A.T) / scale)):.2e}")
+    assert np.max(np.abs((x[1:] - x[:-1] @ A.T) / scale)) <= 1.5e-14  # measured 1.4e-15: round-off, ~10x
     # (i) Prony
     u = r.displacement[:, 0]
     k = np.nonzero((u[1:-1] > u[:-2]) & (u[1:-1] >= u[2:]) & (u[1:-1] > 0))[0] + 1
@@ -169,12 +179,15 @@ def test_numerical_damping_gamma_06(ratio):
     theta_m = math.acos(p[0] / (2.0 * rho_m))
     decay_prony = rho_m ** (2.0 * math.pi / theta_m)
     print(f"MEASURED sdof gamma=0.6 dt/T={ratio}: decay/cycle exact {decay_exact:.6f}, "
-          f"Prony {decay_prony:.6f}, peaks {(peaks[-1] / peaks[0]) ** (1.0 / (peaks.size - 1)):.6f}")
-    assert abs(decay_prony / decay_exact - 1.0) <= 1e-8
+          f"Prony {decay_prony:.6f}, peaks {(peaks[-1] / peaks[0]) ** (1.0 / (peaks.size - 1)):.6f}; Prony / exact - 1 "
+          f"{decay_prony / decay_exact - 1.0:.2e}, peaks / exact - 1 "
+          f"{(peaks[-1] / peaks[0]) ** (1.0 / (peaks.size - 1)) / decay_exact - 1.0:.2e}")
+    assert abs(decay_prony / decay_exact - 1.0) <= 3e-14  # measured 2.8e-15: round-off, ~10x
     # (ii) interpolated peaks (parabola through the 3 samples around each maximum)
     j = peaks.size - 1
     decay_peaks = (peaks[-1] / peaks[0]) ** (1.0 / j)
-    assert abs(decay_peaks / decay_exact - 1.0) <= 2e-3
+    # the parabola through three samples: measured -5.8e-7 (dt/T = 0.05), 1.3e-4 (0.1)
+    assert abs(decay_peaks / decay_exact - 1.0) <= (1.5e-6 if ratio == 0.05 else 3.5e-4)
     # and it is a real decay: several percent per cycle at these steps
     assert decay_exact < (0.995 if ratio == 0.05 else 0.98)
 
@@ -194,12 +207,13 @@ def test_rayleigh_damped_logarithmic_decrement():
     j = peaks.size - 1
     dec = math.log(peaks[0] / peaks[-1]) / j
     xi = dec / math.sqrt(4.0 * math.pi**2 + dec**2)
-    print(f"MEASURED sdof Rayleigh 5%: log-decrement xi = {xi:.6f}")
-    assert abs(xi - 0.05) <= 0.001, xi  # 5 % +- 0.1 percentage point
-    assert abs(xi / 0.05 - 1.0) <= 1e-3, xi  # and even 5 % +- 0.1 % of 5 %
+    print(f"MEASURED sdof Rayleigh 5%: log-decrement xi = {xi:.6f} (xi - 0.05 = {xi - 0.05:.2e}, "
+          f"xi / 0.05 - 1 = {xi / 0.05 - 1.0:.2e})")
+    assert abs(xi - 0.05) <= 1e-4, xi  # measured -3.3e-5 (the scheme's own damping, xi_bar below)
+    assert abs(xi / 0.05 - 1.0) <= 1e-3, xi  # 5 % +- 0.1 % of 5 % (measured -6.6e-4)
     # tighter: the discrete scheme's own damping ratio, from the eigenvalues of A
     lam = np.linalg.eigvals(amplification_matrix(dt, 0.25, 0.5, xi=0.05))
     lam = lam[np.argmax(np.abs(lam.imag))]
     xi_bar = -math.log(abs(lam)) / math.hypot(math.log(abs(lam)), abs(np.angle(lam)))
-    print(f"MEASURED sdof Rayleigh 5%: discrete-scheme xi_bar = {xi_bar:.6f}")
-    assert abs(xi - xi_bar) <= 2e-5, (xi, xi_bar)
+    print(f"MEASURED sdof Rayleigh 5%: discrete-scheme xi_bar = {xi_bar:.6f}, xi - xi_bar = {xi - xi_bar:.2e}")
+    assert abs(xi - xi_bar) <= 4e-8, (xi, xi_bar)  # measured 1.3e-8 (the peaks' parabola)

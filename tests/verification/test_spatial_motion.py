@@ -64,12 +64,14 @@ def test_stiff_buildings_touch_when_the_differential_ground_displacement_reaches
     t_star = s / (a0 * tau) + tau / 2 + dt / 2
     t0 = float(ds.impact_onset.min())
     print(f"MEASURED first touch {t0:.6f} s, closed form {t_star:.6f} s, difference {abs(t0 - t_star):.2e} s")
-    assert abs(t0 - t_star) <= 1e-4
+    assert abs(t0 - t_star) <= 5e-7  # measured 1.9e-7 s (the bound of the docstring: 1e-4 s)
     # the stored ground displacement under each building is the closed form
     t = ds.time.values
     later = t >= tau + dt
     ub = a0 / 2 * (t - tau - dt / 2) ** 2 + a0 * dt**2 / 24
-    assert np.allclose(ds.base_displacement.sel(building="B").values[later], ub[later], rtol=1e-12, atol=1e-15)
+    got = ds.base_displacement.sel(building="B").values[later]
+    print(f"MEASURED ground displacement under B against the closed form {np.abs(got / ub[later] - 1).max():.1e}")
+    assert np.allclose(got, ub[later], rtol=3e-14, atol=0)  # measured 3.3e-15: round-off, ~10x
 
 
 def test_delayed_and_filtered_input_against_the_reference_twin():
@@ -80,7 +82,10 @@ def test_delayed_and_filtered_input_against_the_reference_twin():
     m = _model([a, b], ag, dt, t_end, size=0.006)
     m.buildings[1].ground_motion = BuildingMotion(delay=tau, lowpass=fc)
     ds = sp.simulate(m, twin=False)
-    assert np.allclose(ds.base_acceleration.sel(building="B").values, ag_b)
+    dab = np.abs(ds.base_acceleration.sel(building="B").values - ag_b).max() / np.abs(ag_b).max()
+    print(f"MEASURED spatial: B's stored base acceleration against variant() {dab:.1e} of its peak")
+    # measured: equal; a few ulps allowed
+    assert np.allclose(ds.base_acceleration.sel(building="B").values, ag_b, rtol=1e-14, atol=1e-14 * np.abs(ag_b).max())
     # the twin: the same per-DOF ground accelerations, linear between the analysis samples
     mats = [shear_matrices(x.floor_masses, x.storey_stiffness, *x.rayleigh_coefficients()) for x in (a, b)]
     mass = np.concatenate([x[0] for x in mats])
@@ -103,11 +108,12 @@ def test_delayed_and_filtered_input_against_the_reference_twin():
     pf = float(ds.peak_pounding_force.max())
     print(f"MEASURED spatial twin: impacts {imp_k.size} / {imp_r.size}; onsets differ <= "
           f"{np.max(np.abs(imp_k - imp_r)) if imp_k.size == imp_r.size else float('nan'):.2e} s; peak force "
-          f"{pf:.6g} / {ref.peak_force.max():.6g} N; peak displacement error {du:.2e}")
+          f"{pf:.6g} / {ref.peak_force.max():.6g} N ({pf / ref.peak_force.max() - 1:+.2e}); peak displacement error "
+          f"{du:.2e}")
     assert imp_k.size == imp_r.size >= 3
-    assert np.max(np.abs(imp_k - imp_r)) <= 2e-3
-    assert pf == pytest.approx(ref.peak_force.max(), rel=0.02)
-    assert du <= 0.01
+    assert np.max(np.abs(imp_k - imp_r)) <= 2.5e-4  # measured 9.9e-5 s
+    assert pf == pytest.approx(ref.peak_force.max(), rel=4e-4)  # measured -1.5e-4
+    assert du <= 2.5e-4  # measured 1.0e-4
 
 
 def test_ground_motion_integrals_are_exact_for_piecewise_linear_acceleration():
@@ -119,6 +125,10 @@ def test_ground_motion_integrals_are_exact_for_piecewise_linear_acceleration():
     a = np.interp(tt, np.arange(5) * dt, ag[0])
     v = np.concatenate([[0.0], np.cumsum(0.5 * (a[1:] + a[:-1]) * np.diff(tt))])
     u = np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(tt))])
-    assert np.allclose(vg[0], v[::10000], rtol=0, atol=1e-12)
+    print(f"MEASURED ground motion integrals against quadrature: velocity {np.abs(vg[0] - v[::10000]).max():.1e}, "
+          f"displacement {np.abs(ug[0] - u[::10000]).max() / np.abs(u).max():.1e} of its peak, ug[1] "
+          f"{ug[0, 1] / (dt**2 / 6) - 1:.1e}")
+    assert np.allclose(vg[0], v[::10000], rtol=0, atol=3e-16)  # measured 2.1e-17 m/s: round-off, ~10x
+    # measured 3.5e-10 of the peak: the fine trapezoidal quadrature's own error
     assert np.allclose(ug[0], u[::10000], rtol=0, atol=1e-9 * np.abs(u).max())
-    assert math.isclose(ug[0, 1], dt**2 / 6 * 1.0)
+    assert math.isclose(ug[0, 1], dt**2 / 6 * 1.0, rel_tol=1e-14)  # measured: equal; a few ulps allowed

@@ -59,14 +59,16 @@ def _params(law):
 
 @pytest.mark.parametrize("law", ["LVe", "Hd", "LHC"])
 def test_every_impact_returns_e_of_its_approach_velocity(law):
-    worst = 0.0
+    worst, used = 0.0, 0.0
     for v0 in V0S:
         e_sim, e_used, v_app = impact(law, v0, **_params(law))
         target = float(FORM(v_app))
-        assert e_used == pytest.approx(target, rel=1e-12)  # the catalogue keeps the e used
+        used = max(used, abs(e_used / target - 1))
+        assert e_used == pytest.approx(target, rel=1e-14)  # the catalogue keeps the e used (measured: equal)
         worst = max(worst, abs(e_sim / target - 1.0))
-    print(f"MEASURED {law}: e(v0) = {FORM!r}, worst |e_sim / e(v0) - 1| over v0 = {V0S}: {worst:.2e}")
-    assert worst <= 0.005
+    print(f"MEASURED {law}: e(v0) = {FORM!r}, worst |e_sim / e(v0) - 1| over v0 = {V0S}: {worst:.2e}; "
+          f"catalogue e against e(v0) {used:.1e}")
+    assert worst <= 8e-4  # measured 2.7e-4 (LVe), 3.1e-4 (Hd), 3.3e-4 (LHC)
 
 
 def _hc_exact(c, v0):
@@ -84,14 +86,16 @@ def _hc_exact(c, v0):
 
 def test_hunt_crossley_restitution_falls_with_approach_velocity():
     c = 0.4  # s/m
-    rows = []
+    rows, used = [], 0.0
     for v0 in V0S:
         e_sim, e_used, v_app = impact("HC", v0, stiffness=K_HERTZ, damping_constant=c)
         exact = _hc_exact(c, v_app)
         rows.append((v0, e_sim, exact))
-        assert e_used == pytest.approx(exact, rel=1e-9)
-        assert e_sim == pytest.approx(exact, rel=0.005)
-    print("MEASURED HC c = 0.4 s/m: v0, e_sim, e_exact: " + "; ".join(f"{a:g} {b:.5f} {x:.5f}" for a, b, x in rows))
+        used = max(used, abs(e_used / exact - 1))
+        assert e_used == pytest.approx(exact, rel=3e-12)  # measured <= 3.3e-13 (two root solvers), ~10x
+        assert e_sim == pytest.approx(exact, rel=5e-4)  # measured <= 2.1e-4
+    print("MEASURED HC c = 0.4 s/m: v0, e_sim, e_exact: " + "; ".join(f"{a:g} {b:.5f} {x:.5f}" for a, b, x in rows)
+          + f"; worst e_sim / e_exact - 1 {max(abs(b / x - 1) for _, b, x in rows):.2e}, catalogue e {used:.1e}")
     assert rows[0][1] > 0.99 and rows[-1][1] < 0.6  # e ~ 1 - c v0 at low speed, falling
 
 
@@ -102,11 +106,13 @@ def test_mlve_and_nive_deviations_are_measured(law):
     deviation is only bounded (it still dissipates: 0 < e_sim < 1)."""
     from .test_impact_restitution import e_mlve
 
-    devs = []
+    devs, cf = [], 0.0
     for v0 in V0S:
         e_sim, e_used, v_app = impact(law, v0, **_params(law))
         devs.append(e_sim / e_used - 1.0)
         if law == "MLVe":
-            assert e_sim == pytest.approx(e_mlve(e_used), rel=0.005)
+            cf = max(cf, abs(e_sim / e_mlve(e_used) - 1))
+            assert e_sim == pytest.approx(e_mlve(e_used), rel=6e-4)  # measured <= 2.2e-4
         assert 0.0 < e_sim < 1.0
-    print(f"MEASURED {law}: e_sim / e(v0) - 1 at v0 = {V0S}: " + ", ".join(f"{d:+.3f}" for d in devs))
+    print(f"MEASURED {law}: e_sim / e(v0) - 1 at v0 = {V0S}: " + ", ".join(f"{d:+.3f}" for d in devs)
+          + (f"; worst against the closed form {cf:.2e}" if law == "MLVe" else ""))

@@ -31,8 +31,10 @@ def _twin_law(kind, k=K, dy=DY, n=2.0):
     return dict(kind=kind, k=k, alpha=ALPHA, dy=dy, fy=k * dy, n=n, beta=0.5, gamma=0.5)
 
 
-@pytest.mark.parametrize("kind, n", [("bilinear", None), ("bouc-wen", 1.0), ("bouc-wen", 2.0), ("bouc-wen", 10.0)])
-def test_loops_under_imposed_cyclic_drift_equal_the_twin(kind, n):
+# limit on the loop force's error / peak: measured 6.1e-6, 2.2e-5, 1.2e-5, 3.7e-5
+@pytest.mark.parametrize("kind, n, limit", [("bilinear", None, 1.5e-5), ("bouc-wen", 1.0, 6e-5),
+                                            ("bouc-wen", 2.0, 3e-5), ("bouc-wen", 10.0, 1e-4)])
+def test_loops_under_imposed_cyclic_drift_equal_the_twin(kind, n, limit):
     """Three cycles growing from 0.4 to 4 dy; the force at 4000 samples."""
     t = np.linspace(0.0, 3.0, 4001)
 
@@ -51,7 +53,7 @@ def test_loops_under_imposed_cyclic_drift_equal_the_twin(kind, n):
     ref = twin.simulate([1.0], [_twin_law(kind, n=n or 2.0)], 0.0, 0.0, None, t[-1], t, drift=drift, rtol=1e-11)
     err = np.abs(force - ref["f"][:, 0]).max() / np.abs(ref["f"]).max()
     print(f"MEASURED {kind} n={n}: loop force against the twin {err:.1e} of the peak force")
-    assert err <= 1e-4
+    assert err <= limit
 
 
 def _building(kind, n=2.0):
@@ -73,10 +75,14 @@ def _run_and_twin(kind, dt):
     return raw, ref
 
 
-@pytest.mark.parametrize("kind", ["bilinear", "bouc-wen"])
-def test_building_under_a_record_equals_the_twin(kind):
+# limits at dt = 5 and 2.5 ms on the hysteretic energy's error and on the residual drifts' difference / peak
+# displacement; measured bilinear +5.5e-4, +1.2e-4 and 7.4e-4, 2.0e-4; Bouc-Wen -1.6e-4, -1.9e-5 and 7.7e-4, 1.6e-4
+@pytest.mark.parametrize("kind, energy_limits, residual_limits", [("bilinear", (1.5e-3, 3e-4), (2e-3, 5e-4)),
+                                                                   ("bouc-wen", (4e-4, 5e-5), (2e-3, 4e-4))],
+                         ids=["bilinear", "bouc-wen"])
+def test_building_under_a_record_equals_the_twin(kind, energy_limits, residual_limits):
     errs = []
-    for dt in (0.005, 0.0025):
+    for dt, energy_limit, residual_limit in zip((0.005, 0.0025), energy_limits, residual_limits):
         raw, ref = _run_and_twin(kind, dt)
         assert raw.driver == "general"
         ne = np.linalg.norm(raw.displacement - ref["u"], axis=0) / np.linalg.norm(ref["u"], axis=0)
@@ -85,24 +91,31 @@ def test_building_under_a_record_equals_the_twin(kind):
         residual, residual_ref = raw.displacement[-1], ref["u"][-1]
         print(f"MEASURED {kind} dt={dt}: displacement NE {ne.max():.2e}; hysteretic energy {e_h:.5g} J, twin "
               f"{e_h_ref:.5g} J ({e_h / e_h_ref - 1:+.2e}); residual roof drift {residual[-1]:.5f} m, twin "
-              f"{residual_ref[-1]:.5f} m")
-        assert abs(e_h / e_h_ref - 1) <= 0.01
-        assert np.abs(residual - residual_ref).max() <= 0.01 * np.abs(ref["u"]).max()
+              f"{residual_ref[-1]:.5f} m; residual drifts differ by "
+              f"{np.abs(residual - residual_ref).max() / np.abs(ref['u']).max():.1e} of the peak displacement")
+        assert abs(e_h / e_h_ref - 1) <= energy_limit
+        assert np.abs(residual - residual_ref).max() <= residual_limit * np.abs(ref["u"]).max()
         assert e_h_ref > 0.3 * ref["e_input"][-1]  # the storeys really yield
     print(f"MEASURED {kind}: NE ratio on halving the step {errs[0] / errs[1]:.2f}")
-    assert errs[0] <= 0.005
-    assert errs[0] / errs[1] >= 3.0  # second order
+    assert errs[0] <= 0.005  # measured 2.7e-3 (bilinear), 2.2e-3 (Bouc-Wen)
+    assert errs[0] / errs[1] >= 3.0  # second order (measured 3.58, 3.99)
 
 
-@pytest.mark.parametrize("kind", ["bilinear", "bouc-wen"])
-def test_energy_balance_with_hysteretic_dissipation(kind):
+# measured: balance 7.1e-15 / 2.6e-15 of the input (round-off: ~10x); input against the twin's +1.9e-4 / -2.2e-4;
+# damping -6.2e-4 / -4.3e-4; largest fall of the hysteretic energy -2.2e-16 (round-off: ~10x) / -1.2e-8 of its largest
+@pytest.mark.parametrize("kind, balance_limit, damping_limit, fall_limit", [("bilinear", 7e-14, 1.5e-3, 2e-15),
+                                                                             ("bouc-wen", 3e-14, 1.2e-3, 3e-8)],
+                         ids=["bilinear", "bouc-wen"])
+def test_energy_balance_with_hysteretic_dissipation(kind, balance_limit, damping_limit, fall_limit):
     raw, ref = _run_and_twin(kind, 0.005)
     e = raw.energy
     balance = e[:, 0] - e[:, 1:].sum(axis=1)
     print(f"MEASURED {kind}: energy balance {np.abs(balance).max() / e[:, 0].max():.1e} of the input; "
           f"input {e[-1, 0]:.5g} J, twin {ref['e_input'][-1]:.5g} J; damping {e[-1, 3]:.5g} J, twin "
-          f"{ref['e_damp'][-1]:.5g} J")
-    assert np.abs(balance).max() <= 1e-9 * e[:, 0].max()
-    assert abs(e[-1, 0] / ref["e_input"][-1] - 1) <= 0.01
-    assert abs(e[-1, 3] / ref["e_damp"][-1] - 1) <= 0.01
-    assert np.all(np.diff(e[:, 5]) >= -1e-6 * e[:, 5].max())  # dissipation never runs backwards
+          f"{ref['e_damp'][-1]:.5g} J ({e[-1, 0] / ref['e_input'][-1] - 1:+.1e}, "
+          f"{e[-1, 3] / ref['e_damp'][-1] - 1:+.1e}); largest fall of the hysteretic energy "
+          f"{np.diff(e[:, 5]).min() / e[:, 5].max():.1e} of its largest")
+    assert np.abs(balance).max() <= balance_limit * e[:, 0].max()
+    assert abs(e[-1, 0] / ref["e_input"][-1] - 1) <= 5e-4
+    assert abs(e[-1, 3] / ref["e_damp"][-1] - 1) <= damping_limit
+    assert np.all(np.diff(e[:, 5]) >= -fall_limit * e[:, 5].max())  # dissipation never runs backwards

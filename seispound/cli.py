@@ -317,8 +317,10 @@ def summary(ds, out=None) -> str:
     if ni and "contact_substeps" in ds.attrs:
         n, est = int(ds.attrs["contact_substeps"]), float(ds.attrs.get("contact_error_estimate", float("nan")))
         if ds.attrs.get("contact_substeps_from") == "tolerance":
+            peak, runs = float(ds.attrs.get("peak_error_estimate", float("nan"))), int(ds.attrs.get("tolerance_runs", 1))
             lines.append(f"  {n} contact substeps per impact, chosen for a tolerance of "
-                         f"{float(ds.attrs['tolerance']):.3g} (estimated error of an impact {est:.2g})")
+                         f"{float(ds.attrs['tolerance']):.3g}: estimated error of the peaks {peak:.2g} (of an "
+                         f"impact {est:.2g}), from {runs} runs")
         else:
             lines.append(f"  {n} contact substeps per impact, as the model gives")
     if ng:

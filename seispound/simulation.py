@@ -114,13 +114,20 @@ def newmark_substeps(model, system) -> int:
     NE against a 0.5 ms reference was 1.2-1.3 % at omega_hi h = 0.33 (NE ~ 0.115 (omega_hi h)^2),
     so 0.2 puts it near 0.45 %, under the 0.5 % asked.  A power of two (the contact substeps'
     grid), at most MAX_NEWMARK_SUBSTEPS; 1 on the fast driver (its steps are exact between
-    impacts).
+    impacts).  A tolerance below the default (0.01) scales the rule's 0.2 rad by sqrt(tolerance /
+    0.01), up to MAX_TOLERANCE_NEWMARK substeps; a looser one keeps it.
     """
     if not system.needs_general_driver:
         return 1
+    from .model.analysis import DEFAULT_TOLERANCE
+
+    # a tolerance finer than the default asks a smaller omega h, as the error's (omega h)^2 falls
+    tol = model.analysis.tolerance
+    theta = NEWMARK_THETA * min(1.0, (tol / DEFAULT_TOLERANCE) ** 0.5)
+    most = MAX_NEWMARK_SUBSTEPS if tol >= DEFAULT_TOLERANCE else MAX_TOLERANCE_NEWMARK
     w_hi = max(float(b.modes()[0].max()) for b in model.buildings)
     n = 1
-    while n < MAX_NEWMARK_SUBSTEPS and w_hi * model.analysis.dt / n > NEWMARK_THETA:
+    while n < most and w_hi * model.analysis.dt / n > theta:
         n *= 2
     return n
 
@@ -158,24 +165,104 @@ def run_row(model, system, rows, *, scheme=None, store_history=True, limit_conta
     """Integrate an assembled row with the model's analysis settings: the one call every run makes.
 
     ``simulate`` (the run and its twin), the study worker, a fit's evaluation and the impact
-    procedure all integrate through here, so the step, the scheme and the general driver's
-    substeps (:func:`newmark_substeps`) are decided once.  ``scheme`` overrides the model's.
-    ``limit_contact_step`` False leaves the contact substeps at 1 / ``contact_substeps`` of each
-    impact's duration (:func:`contact_step` not applied): a fit's evaluations do, since the limit
-    made a diagnosis with rod-floor forms 11 times slower (docs/performance.md).
-    Returns the kernel's RawResult, its ``stats["newmark_substeps"]`` and ``stats["contact_step"]`` set.
+    procedure all integrate through here, so the step, the scheme, the general driver's
+    substeps (:func:`newmark_substeps`) and the contact substeps (:func:`contact_substeps`) are
+    decided once.  ``scheme`` overrides the model's.  ``limit_contact_step`` False leaves the
+    contact substeps at 1 / ``contact_substeps`` of each impact's duration (:func:`contact_step`
+    not applied): a fit's evaluations do, since the limit made a diagnosis with rod-floor forms 11
+    times slower (docs/performance.md).
+
+    When the contact substeps are the tolerance's (the model does not give them) and the row
+    pounds, the run is checked by two substep counts (:func:`_meet_tolerance`) and refined until
+    its peaks meet the tolerance.  Returns the kernel's RawResult, its ``stats`` holding
+    ``newmark_substeps``, ``contact_step``, ``contact_substeps``, ``contact_error_estimate``,
+    ``peak_error_estimate`` and ``tolerance_runs``.
     """
     an = model.analysis
-    n = newmark_substeps(model, system)
-    h_c = contact_step(system) if limit_contact_step else np.inf
     nm, estimate = contact_substeps(model)
-    raw = integrate(system, rows, an.dt, an.nsteps, nm, scheme=scheme or an.scheme,
-                    store_history=store_history, substeps=n, contact_step=h_c)
-    raw.stats["newmark_substeps"] = n if raw.driver == "general" else 1
-    raw.stats["contact_step"] = float(h_c)
-    raw.stats["contact_substeps"] = int(nm.contact_substeps)
-    raw.stats["contact_error_estimate"] = estimate
+    steps = (nm, newmark_substeps(model, system), contact_step(system) if limit_contact_step else np.inf)
+
+    def run(settings):
+        n_cs, n_nm, h_c = settings
+        raw = integrate(system, rows, an.dt, an.nsteps, n_cs, scheme=scheme or an.scheme,
+                        store_history=store_history, substeps=n_nm, contact_step=h_c)
+        raw.stats.update(newmark_substeps=n_nm if raw.driver == "general" else 1, contact_step=float(h_c),
+                         contact_substeps=int(n_cs.contact_substeps))
+        return raw
+
+    raw = run(steps)
+    peak_estimate, runs = float("nan"), 1
+    if an.newmark.contact_substeps is None and raw.impacts["gap"].size:
+        raw, steps, peak_estimate, runs = _meet_tolerance(run, raw, steps, an.tolerance)
+        estimate = impact_error_of(model, steps[0].contact_substeps)
+    raw.stats.update(contact_error_estimate=estimate, peak_error_estimate=peak_estimate, tolerance_runs=runs)
     return raw
+
+
+#: the finest settings the tolerance may ask for: contact substeps, Newmark substeps per analysis step
+MAX_CONTACT_SUBSTEPS, MAX_TOLERANCE_NEWMARK = 512, 64
+
+
+def _meet_tolerance(run, raw, steps, tolerance):
+    """(run, settings, estimated relative error of its peaks, runs made): refined until the peaks meet ``tolerance``.
+
+    Two substep counts: the same row with every step the tolerance sets twice as long (contact
+    substeps halved, the contact-step limit and the general driver's Newmark substeps
+    doubled) gives, by Richardson's extrapolation, the error of the finer run's peaks,
+    err = |q(h) - q(2h)| / (2^p - 1) over :func:`peak_values`, taken at p = log2(3) (err =
+    |q(h) - q(2h)| / 2): the steps are second order (Newmark's average acceleration rule, Chopra
+    Sec. 5.4), but a row's peaks come out of many impacts and converge at p of 1.8 to 2, and the
+    estimate is to stay above the error for any p above 1.58 (derived here).  While it is above
+    the tolerance, every step is halved and the row run again, the last run becoming the coarse
+    one, up to MAX_CONTACT_SUBSTEPS.  (The isolated impact's estimate, which also sees a peak force
+    that converges unevenly, met the tolerance at the first settings and only falls from there.)
+    """
+    coarse = run(_scaled(steps, 0.5))
+    runs = 2
+    while True:
+        estimate = _peak_change(raw, coarse) / 2.0
+        finest = steps[0].contact_substeps >= MAX_CONTACT_SUBSTEPS
+        if estimate <= tolerance or finest:
+            return raw, steps, estimate, runs
+        coarse, steps = raw, _scaled(steps, 2.0)
+        raw = run(steps)
+        runs += 1
+
+
+def _scaled(steps, factor):
+    """The settings with every step the tolerance sets divided by ``factor`` (2: twice as fine; 0.5: coarse)."""
+    nm, n_nm, h_c = steps
+    n_cs = max(int(round(nm.contact_substeps * factor)), 2)
+    n_nm = min(max(int(round(n_nm * factor)), 1), MAX_TOLERANCE_NEWMARK)
+    return replace(nm, contact_substeps=n_cs), n_nm, h_c / factor
+
+
+def peak_values(raw) -> list:
+    """What the tolerance speaks of, as arrays: the peak pounding force of every gap element whose peak
+    is at least a tenth of the largest, and every DOF's peak displacement and absolute acceleration
+    at least 1e-3 of the largest."""
+    f = np.asarray(raw.peak_force, float)
+    u = np.asarray(raw.peak_displacement, float)
+    a = np.abs(raw.acceleration).max(axis=0) if raw.acceleration.size else np.zeros(0)
+    return [f, 0.1 * f.max(initial=0.0)], [u, 1e-3 * u.max(initial=0.0)], [a, 1e-3 * a.max(initial=0.0)]
+
+
+def _peak_change(fine, coarse) -> float:
+    """Largest relative change of :func:`peak_values` from ``coarse`` to ``fine`` [-]."""
+    worst = 0.0
+    for (q1, floor), (q0, _) in zip(peak_values(fine), peak_values(coarse)):
+        keep = q1 >= floor
+        if keep.any() and floor > 0:
+            worst = max(worst, float(np.max(np.abs(q1[keep] - q0[keep]) / q1[keep])))
+    return worst
+
+
+def impact_error_of(model, n) -> float:
+    """The isolated-impact estimate at ``n`` substeps for the row's laws (``seispound.accuracy``)."""
+    from .accuracy import impact_error
+
+    laws = {id(law): law for law in (g.law or model.contact for g in model.gaps) if law is not None}
+    return max((impact_error(law, int(n)) for law in laws.values()), default=0.0)
 
 
 def contact_substeps(model):
@@ -184,7 +271,7 @@ def contact_substeps(model):
     Given substeps (``[analysis] contact_substeps``) win, with no estimate (NaN); otherwise the
     fewest that meet ``[analysis] tolerance`` on an isolated impact of each of the row's laws
     (:func:`seispound.accuracy.choose_contact_substeps`), never fewer than Newmark's stability
-    asks for the contact stiffness.
+    asks for the contact stiffness.  :func:`run_row` checks the run itself and refines from there.
     """
     from .accuracy import choose_contact_substeps
 

@@ -64,7 +64,9 @@ Attributes
     ``simulation.contact_substeps`` from the tolerance; "model": given), tolerance (the relative
     error accepted on the peak pounding force and peak floor response), contact_error_estimate
     (the estimated relative error of one impact at those substeps, NaN when they were given:
-    ``seispound.accuracy``),
+    ``seispound.accuracy``), peak_error_estimate (the estimated relative error of the run's peaks,
+    from the run at half its substeps: ``simulation.run_row``; NaN when the substeps were given or
+    nothing pounded), tolerance_runs (integrations the tolerance took),
     integrator_stats (JSON), building_ground_motion (JSON:
     each building with a motion of its own: record, delay, filter).
 """
@@ -343,6 +345,8 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
         contact_substeps_from="tolerance" if nm.contact_substeps is None else "model",
         tolerance=float(model.analysis.tolerance),
         contact_error_estimate=float(raw.stats.get("contact_error_estimate", np.nan)),
+        peak_error_estimate=float(raw.stats.get("peak_error_estimate", np.nan)),
+        tolerance_runs=int(raw.stats.get("tolerance_runs", 1)),
         integrator_stats=json.dumps(raw.stats),
         sign_convention="x positive from left building to right; penetration = u_left - u_right - gap",
     )

@@ -88,6 +88,8 @@ SUMMARY_VARIABLES = [
                                   "unless the model gives them)", "i8"),
     ("contact_error_estimate", (), "1", "estimated relative error of one impact at those substeps (NaN when given)",
      "f8"),
+    ("peak_error_estimate", (), "1", "estimated relative error of the run's peaks, from the run at half its "
+                                     "substeps (NaN when given or nothing pounded)", "f8"),
 ]
 
 # history name -> (trailing dims, units, long name)

@@ -97,6 +97,7 @@ def run_one(study, index: int, twin: dict) -> dict:
         total_impacts=int(counts.sum()),
         contact_substeps=int(raw.stats["contact_substeps"]),
         contact_error_estimate=float(raw.stats["contact_error_estimate"]),
+        peak_error_estimate=float(raw.stats["peak_error_estimate"]),
     )
     for name in ("acceleration", "drift_ratio", "storey_shear"):
         out[f"peak_{name}"] = _per_floor(peaks[name], study)

@@ -41,10 +41,29 @@ def test_default_tolerance_chooses_the_substeps_and_records_them(model_file):
     n, est = accuracy.choose_contact_substeps([model.contact], 0.01)
     assert ds.attrs["tolerance"] == 0.01
     assert ds.attrs["contact_substeps_from"] == "tolerance"
-    assert ds.attrs["contact_substeps"] == n
-    assert ds.attrs["contact_error_estimate"] == pytest.approx(est, rel=1e-12)
-    assert est <= accuracy.SAFETY * 0.01
     assert int(ds.sizes["impact"]) > 0
+    # started from the isolated impact's choice, refined by powers of two while the peaks' estimate was above
+    runs = ds.attrs["tolerance_runs"]
+    assert runs >= 2 and ds.attrs["contact_substeps"] == n * 2 ** (runs - 2)
+    assert est <= accuracy.SAFETY * 0.01
+    assert ds.attrs["contact_error_estimate"] <= est
+    assert 0 < ds.attrs["peak_error_estimate"] <= 0.01
+
+
+def test_the_peaks_estimate_is_the_change_from_the_run_at_half_its_substeps(model_file):
+    from dataclasses import replace
+
+    from seispound.integrate import integrate
+    from seispound.simulation import _peak_change, _run_inputs, contact_step, run_row
+
+    model = sp.load_model(model_file)
+    kept, system, motions = _run_inputs(model)
+    raw = run_row(model, system, motions.rows)
+    n = raw.stats["contact_substeps"]
+    an = model.analysis
+    coarse = integrate(system, motions.rows, an.dt, an.nsteps, replace(an.newmark, contact_substeps=n // 2),
+                       contact_step=2 * contact_step(system))
+    assert raw.stats["peak_error_estimate"] == pytest.approx(_peak_change(raw, coarse), rel=1e-12)
 
 
 def test_looser_tolerance_fewer_substeps_and_results_within_it(model_file):
@@ -110,10 +129,10 @@ def test_cli_summary_says_how_the_substeps_were_chosen(model_file, tmp_path):
     res = subprocess.run([str(SEISPOUND), "run", str(model_file), "-o", str(tmp_path / "r.h5")],
                          capture_output=True, text=True, timeout=300)
     assert res.returncode == 0, res.stderr
-    m = re.search(r"(\d+) contact substeps per impact, chosen for a tolerance of 0.01 \(estimated error of an "
-                  r"impact ([0-9.e-]+)\)", res.stdout)
+    m = re.search(r"(\d+) contact substeps per impact, chosen for a tolerance of 0.01: estimated error of the "
+                  r"peaks ([0-9.e-]+) \(of an impact ([0-9.e-]+)\), from (\d+) runs", res.stdout)
     assert m, res.stdout
-    assert float(m.group(2)) <= 0.005
+    assert float(m.group(2)) <= 0.01 and float(m.group(3)) <= 0.005 and int(m.group(4)) >= 2
 
 
 def test_tolerance_is_a_study_axis(model_file, tmp_path):
@@ -129,5 +148,5 @@ def test_tolerance_is_a_study_axis(model_file, tmp_path):
     ds = open_study(out)
     subs = ds.contact_substeps.squeeze().values
     assert subs[0] > subs[1]
-    est = ds.contact_error_estimate.squeeze().values
-    assert est[0] <= accuracy.SAFETY * 0.001 and est[1] <= accuracy.SAFETY * 0.05
+    est = ds.peak_error_estimate.squeeze().values
+    assert 0 < est[0] <= 0.001 and 0 < est[1] <= 0.05

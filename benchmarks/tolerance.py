@@ -61,7 +61,10 @@ CONVERGED = 1e-4
 #: the reference's step is the model's dt / this; 1 unless its check against dt / 4 was not converged.
 #: The yielding pair (general driver: Newmark between impacts, error ~ (omega h)^2) differed by 0.23 % in
 #: its floor accelerations between dt and dt / 4; at dt / 16 it differs from dt / 64 by 0.003 %.
-REFERENCE_DT_DIVISOR = {"yielding_pair.toml": 16}
+REFERENCE_DT_DIVISOR = {"yielding_pair.toml": 16,
+                        # the held-out set's first run took this one's reference at dt, which its own check
+                        # flagged (0.20 % from dt / 4): rerun with the yielding pair's divisor
+                        "held-out yielding pair, El Centro 270": 16}
 
 #: contact stiffness per law: linear laws [N/m], Hertz-type [N/m^1.5]
 STIFFNESS = {"LVe": 1.5e8, "MLVe": 1.5e8, "NIVe": 2.75e9, "Hd": 2.75e9, "LHC": 1.5e8}

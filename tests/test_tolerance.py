@@ -103,7 +103,9 @@ def test_tolerance_from_the_model_file(model_file, tmp_path):
     path = _with(model_file, "tolerance = 0.05", tmp_path, "loose.toml")
     ds = sp.simulate(sp.load_model(path), twin=False)
     assert ds.attrs["tolerance"] == 0.05
-    assert ds.attrs["contact_substeps"] == accuracy.choose_contact_substeps([sp.load_model(path).contact], 0.05)[0]
+    start = accuracy.choose_contact_substeps([sp.load_model(path).contact], 0.05)[0]
+    assert ds.attrs["contact_substeps"] == start * 2 ** (ds.attrs["tolerance_runs"] - 2)
+    assert ds.attrs["peak_error_estimate"] <= 0.05
 
 
 @pytest.mark.parametrize("bad", [0.0, -0.01, 0.7, float("nan")])

@@ -36,8 +36,10 @@ def test_quick_tolerance_benchmark_meets_each_tolerance(tmp_path):
             assert x["substeps_from"] == "tolerance" and x["attr_tolerance"] == tol
             assert x["substeps"] >= 4 and x["substeps"] & (x["substeps"] - 1) == 0  # a power of two
             assert 0 < x["estimate"] <= 0.5 * tol  # what the rule promises of its estimate
+            assert 0 < x["peak_estimate"] <= tol and x["runs"] >= 2  # and of the run's own check
             assert x["worst"] == max(x[k] for k in ERRORS)
             assert x["worst"] <= tol and x["within"], (c["case"], tol, {k: x[k] for k in ERRORS})
             assert x["seconds"] > 0 and x["steps"] >= 1200  # 6 s at 5 ms
         assert runs[1]["cost_ratio"] == 1.0 and runs[1]["steps_ratio"] == 1.0
-        assert runs[0]["steps"] > runs[1]["steps"] > runs[2]["steps"]  # more substeps, more steps
+        # more substeps, more steps (5 % may refine to 1 %'s: a check that cannot coarsen refines)
+        assert runs[0]["steps"] > runs[1]["steps"] >= runs[2]["steps"]

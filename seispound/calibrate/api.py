@@ -159,7 +159,7 @@ def _best_start(observer, params, data, n):
 
     from scipy.stats import qmc
 
-    from ..study.paths import get_value
+    from ..model.paths import get_value
     from .fit import normalised_errors
 
     recs = [{c.id: t.recording.data[c.id] for c in observer.channels} for t in observer.trials]

@@ -4,7 +4,7 @@ The residual is, channel by channel, (simulated - recorded) / ||recorded||_2 at 
 recording's samples, so that its squared norm is the sum of the channels' squared
 normalised errors (seed Eq. 10: NE = ||sim - rec||_2 / ||rec||_2).  It is minimised by
 :func:`scipy.optimize.least_squares` (trust-region reflective, bounds) over parameters
-named by the study's dotted paths (``study.paths``); a path to a list of numbers fits one
+named by the study's dotted paths (``model.paths``); a path to a list of numbers fits one
 factor on the whole list.  Stiffness-, mass- and yield-like parameters are fitted in log
 space.
 
@@ -86,7 +86,7 @@ def default_bounds(path: str, value) -> tuple[float, float, bool]:
 
 def parse_fit(specs, model_data) -> list[FitParameter]:
     """``PATH[=lo:hi]`` strings -> FitParameters, checked against the model file's table."""
-    from ..study.paths import get_value
+    from ..model.paths import get_value
 
     out = []
     for spec in specs:
@@ -199,7 +199,7 @@ def calibrate_observer(observer, params, progress=True, max_evaluations=None, wr
     """
     from scipy.optimize import least_squares
 
-    from ..study.paths import get_value
+    from ..model.paths import get_value
 
     base_values = {p.path: get_value(observer.model_data, p.path) for p in params}
     lo = np.array([math.log(p.lo) if p.log else p.lo for p in params])
@@ -357,7 +357,7 @@ def _calibrated_text(observer, params, base_values, xs, write_base) -> str:
 
     import tomli_w
 
-    from ..study.paths import set_value
+    from ..model.paths import set_value
 
     data = copy.deepcopy(observer.model_data)
     for p, x in zip(params, xs):

@@ -71,7 +71,7 @@ class Observer:
 
     def data_for(self, trial, overrides) -> dict:
         """The model table of ``trial`` with ``overrides`` [(path, value)] applied, its duration the recording's."""
-        from ..study.paths import set_value
+        from ..model.paths import set_value
 
         data = copy.deepcopy(trial.model_data if trial.model_data is not None else self.model_data)
         for path, value in overrides:

@@ -125,7 +125,7 @@ def _recalibrate(data, params, base, chans, trial_list, max_evaluations, noise_n
 
     from ..calibrate.fit import calibrate_observer
     from ..calibrate.observe import Observer
-    from ..study.paths import get_value
+    from ..model.paths import get_value
     from scipy.stats import qmc
 
     obs = Observer(data, base, chans, trial_list)
@@ -223,7 +223,7 @@ def _joint_soil(recal, base_params, signature, base, chans, trial_list, max_eval
     from ..foundation import Footing, Soil
     from ..foundation.model import cone_impedances
     from ..model.toml_loader import parse_model
-    from ..study.paths import set_value
+    from ..model.paths import set_value
 
     try:
         aug, specs, _null = HYPOTHESES["soil-structure-interaction"].augment(recal)
@@ -252,7 +252,7 @@ def _joint_soil(recal, base_params, signature, base, chans, trial_list, max_eval
         params = [replace(p, start=min(max(starts.get(p.path, p.start), p.lo), p.hi)) for p in params]
         obs = Observer(joint, base, chans, trial_list)
         recs = [{c.id: t.recording.data[c.id] for c in chans} for t in trial_list]
-        from ..study.paths import get_value
+        from ..model.paths import get_value
 
         scored = []
         for share in (1.0, 0.05):
@@ -320,7 +320,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     from ..calibrate.api import load_inputs
     from ..calibrate.fit import normalised_errors, parse_fit
     from ..calibrate.observe import Observer
-    from ..study.paths import get_value
+    from ..model.paths import get_value
 
     t0 = time.perf_counter()
     jobs = (os.cpu_count() or 1) if jobs is None else int(jobs)
@@ -354,7 +354,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     sufficient = ne_num <= 0.25 * ne_before
     if not sufficient:
         for path, value in fine:
-            from ..study.paths import set_value
+            from ..model.paths import set_value
 
             set_value(data, path, value)
     numerics = {"ne": ne_num, "sufficient": bool(sufficient), "dt": float(data["analysis"]["dt"]),
@@ -642,7 +642,7 @@ def _starts(name, variant, data, alt, base, chans, trial_list):
     point, then the best points across its bounds by ``_best_candidates``), or an error string.  With ``alt``
     ({path: value}: the recalibrated base's values), the null point on those values starts a fit too and the
     scan runs on both sets of base values."""
-    from ..study.paths import get_value
+    from ..model.paths import get_value
 
     try:
         aug, specs, null = CANDIDATES_ALL[name].augment(data, variant)
@@ -681,7 +681,7 @@ def _short(aug, specs, start, base, chans, trial_list):
     model.  Returns (fit, specs) or an error string."""
     from ..calibrate.fit import calibrate_observer, parse_fit
     from ..calibrate.observe import Observer
-    from ..study.paths import set_value
+    from ..model.paths import set_value
 
     try:
         trial_data = copy.deepcopy(aug)

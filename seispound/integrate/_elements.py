@@ -109,18 +109,3 @@ def strain_energy(le_dof, le_coef, le_k, u):
         w = _dot(le_dof, le_coef, e, u)
         s += 0.5 * le_k[e] * w * w
     return s
-
-
-def bandwidth(n, *dof_tables) -> int:
-    """Half bandwidth of the matrices the element tables ``dof_tables`` (each (ne, slots)) assemble."""
-    p = 0
-    for dof in dof_tables:
-        d = np.where(dof >= 0, dof, -1)
-        if d.size == 0:
-            continue
-        hi = d.max(axis=1)
-        lo = np.where(d >= 0, d, n).min(axis=1)
-        used = hi >= 0
-        if used.any():
-            p = max(p, int((hi[used] - lo[used]).max()))
-    return p

@@ -13,7 +13,7 @@ from ..errors import InputError
 from ..model.analysis import Newmark
 from ..motion.spatial import ground_motion_integrals
 from . import _kernel as K
-from ._elements import bandwidth
+from ..structure.band import bandwidth
 from ._multirate import WAIT_SHARE
 from .modal import dof_blocks, modal_basis
 

@@ -214,7 +214,7 @@ class SystemArrays:
         ne_par, ne_gap (hysteretic storeys first, then the gaps, in order);
         p, the half bandwidth; dof_load (n,) [kg], M iota.
         """
-        from ..integrate._elements import bandwidth
+        from .band import bandwidth
 
         n, ne = self.n_dof, self.el_i.size
         infl = np.ones(n) if self.dof_influence is None else np.asarray(self.dof_influence, float)

@@ -59,7 +59,7 @@ else:  # pragma: no cover
 import numpy as np
 
 from ..errors import InputError
-from .paths import get_value, resolve, scaled, set_value
+from ..model.paths import get_value, resolve, scaled, set_value
 from .schema import HISTORY_VARIABLES, RESERVED_DIMS
 
 __all__ = ["Axis", "Member", "Record", "Study", "load_study"]

@@ -7,7 +7,7 @@ import pytest
 
 from seispound import InputError
 from seispound.model.toml_loader import parse_model, read_toml
-from seispound.study.paths import get_value, set_value
+from seispound.model.paths import get_value, set_value
 from tests._models import REPO
 
 

@@ -5,7 +5,7 @@ import tomllib
 import pytest
 
 from seispound.model.toml_loader import parse_model
-from seispound.study.paths import get_value, set_value
+from seispound.model.paths import get_value, set_value
 from tests._models import REPO
 
 TEXT = (REPO / "models" / "yielding_pair.toml").read_text()

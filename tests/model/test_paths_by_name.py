@@ -10,7 +10,7 @@ import pytest
 import seispound as sp
 from seispound import InputError
 from seispound.model.toml_loader import read_toml
-from seispound.study.paths import resolve
+from seispound.model.paths import resolve
 from tests._models import REPO
 from tests.study.conftest import write_study
 
@@ -55,7 +55,7 @@ def test_paths_reach_the_new_model_keys(tmp_path):
     import tomllib
 
     from seispound.model import parse_model
-    from seispound.study.paths import get_value, set_value
+    from seispound.model.paths import get_value, set_value
     from tests.cli.test_bad_input import BASE, write_model
 
     text = BASE.replace("restitution = 0.65", 'restitution = { form = "exponential", e0 = 0.9, e_inf = 0.5, v_c = 0.3 }')

@@ -195,6 +195,15 @@ def run_row(model, system, rows, *, scheme=None, store_history=True, limit_conta
     if an.newmark.contact_substeps is None and raw.impacts["gap"].size:
         raw, steps, peak_estimate, runs = _meet_tolerance(run, raw, steps, an.tolerance)
         estimate = impact_error_of(model, steps[0].contact_substeps)
+        if not peak_estimate <= an.tolerance:
+            import warnings
+
+            from .plausibility import PlausibilityWarning
+
+            warnings.warn(f"{model.source or model.title}: the tolerance {an.tolerance:g} was not reached: at "
+                          f"{steps[0].contact_substeps} contact substeps, the most it takes, the peaks still moved by "
+                          f"{peak_estimate:.2g} from the run at half the steps (analysis.tolerance)",
+                          PlausibilityWarning, stacklevel=2)
     raw.stats.update(contact_error_estimate=estimate, peak_error_estimate=peak_estimate, tolerance_runs=runs)
     return raw
 

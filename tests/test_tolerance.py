@@ -152,3 +152,13 @@ def test_tolerance_is_a_study_axis(model_file, tmp_path):
     assert subs[0] > subs[1]
     est = ds.peak_error_estimate.squeeze().values
     assert 0 < est[0] <= 0.001 and 0 < est[1] <= 0.05
+
+
+def test_a_tolerance_not_reached_is_said(model_file, monkeypatch):
+    from seispound import simulation
+    from seispound.plausibility import PlausibilityWarning
+
+    monkeypatch.setattr(simulation, "MAX_CONTACT_SUBSTEPS", 8)  # refinement stops before 1e-4 is reached
+    with pytest.warns(PlausibilityWarning, match=r"the tolerance 0.0001 was not reached"):
+        ds = sp.simulate(sp.load_model(model_file), twin=False, tolerance=1e-4)
+    assert ds.attrs["peak_error_estimate"] > 1e-4

@@ -6,6 +6,7 @@ that the verification does not depend on the package's own reader.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -59,3 +60,15 @@ def shear_building(name, n, period, mass=1e5, ratio=0.05, modes=(1, 2), height=3
 def pendulum(name, mass, v0=0.0, length=1.5, g=9.81):
     """A suspended slab as a one-storey 'building' of stiffness m g / L (seed Sec. 3 test rig)."""
     return Building(name, [mass], [mass * g / length], [1.0], NoDamping(), initial_velocity=v0)
+
+
+def lve_peak_force(k, meff, v0, xi, points=200001):
+    """Peak force [N] of an LVe two-body impact, closed form (seed Eqs. 1-3): delta = v0/w_d exp(-xi w t)
+    sin(w_d t), F = k delta + 2 xi w m_eff delta', its maximum over ``points`` instants of the contact."""
+    w = math.sqrt(k / meff)
+    wd = w * math.sqrt(1.0 - xi * xi)
+    t = np.linspace(0.0, math.pi / wd, points)
+    decay = np.exp(-xi * w * t)
+    delta = v0 / wd * decay * np.sin(wd * t)
+    rate = v0 * decay * (np.cos(wd * t) - xi * w / wd * np.sin(wd * t))
+    return float(np.max(k * delta + 2.0 * xi * w * meff * rate))

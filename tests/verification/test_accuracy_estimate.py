@@ -9,7 +9,6 @@ the claim checked is the one a user reads: at the substeps chosen for a toleranc
 error (peak force, and rebound velocity relative to the approach velocity) is within it.
 """
 
-import math
 from functools import lru_cache
 
 import numpy as np
@@ -19,6 +18,7 @@ from seispound import accuracy as A
 from seispound.contact import make_law
 from seispound.contact.laws import lve_damping_ratio
 from tests.reference_twin import RefGap, RefLaw, simulate_reference
+from tests.verification._helpers import lve_peak_force
 
 V0 = 0.5  # m/s; the errors do not depend on it (the estimate checks 0.05 and 0.5)
 M = A._MASS
@@ -27,15 +27,7 @@ STIFFNESS = {"LVe": 1e8, "MLVe": 1e8, "LHC": 1e8, "NIVe": 2.75e9, "Hd": 2.75e9}
 
 def _lve_reference(e, k):
     """(peak force [N], rebound velocity [m/s]) of LVe between two free bodies of mass M, closed form."""
-    meff = M / 2.0
-    xi = lve_damping_ratio(e)
-    w = math.sqrt(k / meff)
-    wd = w * math.sqrt(1.0 - xi * xi)
-    t = np.linspace(0.0, math.pi / wd, 400001)
-    decay = np.exp(-xi * w * t)
-    delta = V0 / wd * decay * np.sin(wd * t)
-    rate = V0 * decay * (np.cos(wd * t) - xi * w / wd * np.sin(wd * t))
-    return float(np.max(k * delta + 2.0 * xi * w * meff * rate)), e * V0
+    return lve_peak_force(k, M / 2.0, V0, lve_damping_ratio(e), points=400001), e * V0
 
 
 @lru_cache(maxsize=None)

@@ -40,7 +40,7 @@ from seispound.integrate import Newmark, integrate
 from seispound.structure import Gap, assemble
 from tests.reference_twin import RefGap, RefLaw, hunt_crossley_x, lve_xi, mlve_xi, simulate_reference
 
-from ._helpers import pendulum
+from ._helpers import lve_peak_force, pendulum
 
 M1, M2 = 110.0, 109.0
 MEFF = M1 * M2 / (M1 + M2)
@@ -327,14 +327,7 @@ def test_peak_force_between_substeps_against_closed_form(e, limit8, limit16):
     vertex of the parabola through the samples around the largest, ``_contact._peak_through``) is
     within 0.4 % of it at 8 substeps per impact and 0.1 % at 16, and converges: the largest sample
     alone misses the peak by up to (pi / N)^2 / 8 of it (0.9 % and 0.14 % here)."""
-    xi = lve_xi(e)
-    w = math.sqrt(K_LINEAR / MEFF)
-    wd = w * math.sqrt(1 - xi * xi)
-    t = np.linspace(0.0, math.pi / wd, 200001)
-    decay = np.exp(-xi * w * t)
-    delta = V0 / wd * decay * np.sin(wd * t)
-    rate = V0 * decay * (np.cos(wd * t) - xi * w / wd * np.sin(wd * t))
-    f_ref = float(np.max(K_LINEAR * delta + 2 * xi * w * MEFF * rate))
+    f_ref = lve_peak_force(K_LINEAR, MEFF, V0, lve_xi(e))
     errors = []
     for n_sub in (8, 16, 32):
         system = assemble([pendulum("A", M1, V0), pendulum("B", M2)], [Gap(("A", "B"), 0.0)],

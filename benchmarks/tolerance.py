@@ -308,14 +308,16 @@ def estimate_cost(model, tol: float) -> float:
     """Seconds the error estimate costs a fresh process (``seispound.accuracy`` keeps its impacts per process)."""
     from seispound import accuracy
 
-    saved = dict(accuracy._OUTCOMES)
+    saved = dict(accuracy._OUTCOMES), dict(accuracy._ERRORS)
     accuracy._OUTCOMES.clear()
+    accuracy._ERRORS.clear()
     laws = [g.law or model.contact for g in model.gaps]
     t0 = time.perf_counter()
     accuracy.choose_contact_substeps([law for law in laws if law is not None], tol)
     seconds = time.perf_counter() - t0
-    accuracy._OUTCOMES.clear()
-    accuracy._OUTCOMES.update(saved)
+    for kept, was in zip((accuracy._OUTCOMES, accuracy._ERRORS), saved):
+        kept.clear()
+        kept.update(was)
     return seconds
 
 

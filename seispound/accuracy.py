@@ -41,7 +41,8 @@ MAX_SUBSTEPS = 512
 APPROACH_VELOCITIES = (0.05, 0.5)
 _MASS = 1000.0  # [kg] each body's; the error does not depend on it
 
-_OUTCOMES: dict = {}  # (law key, n, v0) -> (peak force, rebound velocity)
+_OUTCOMES: dict = {}  # (law key, stiffness, n, v0) -> (peak force [N], rebound velocity [m/s])
+_ERRORS: dict = {}  # (law key, n) -> impact_error
 
 
 def _law_key(law) -> tuple:
@@ -74,7 +75,7 @@ def _impact(law, n: int, v0: float) -> tuple[float, float]:
 
 
 def _outcome(law, n: int, v0: float) -> tuple[float, float]:
-    key = (_law_key(law), int(n), v0)
+    key = (_law_key(law), float(law.stiffness), int(n), v0)  # forces [N] depend on k; their errors do not
     if key not in _OUTCOMES:
         _OUTCOMES[key] = _impact(law, n, v0)
     return _OUTCOMES[key]
@@ -87,8 +88,16 @@ def impact_error(law, n: int) -> float:
     each of :data:`APPROACH_VELOCITIES`, the larger of two estimates of the error at n: against
     2n by Richardson's factor 4/3, and against 4n by 16/15 (the peak force of the laws whose
     dashpot acts only on approach converges unevenly: one pair of counts alone can miss it).
-    The largest of these; NaN if an isolated impact does not separate cleanly.
+    The largest of these; NaN if an isolated impact does not separate cleanly.  Kept per law
+    (without its stiffness, which scales out of the error) and n.
     """
+    key = (_law_key(law), int(n))
+    if key not in _ERRORS:
+        _ERRORS[key] = _impact_error(law, int(n))
+    return _ERRORS[key]
+
+
+def _impact_error(law, n: int) -> float:
     worst = 0.0
     for v0 in APPROACH_VELOCITIES:
         q1, q2, q4 = (np.array(_outcome(law, m, v0)) for m in (n, 2 * n, 4 * n))

@@ -83,3 +83,14 @@ def test_estimate_against_the_twin_for_the_laws_without_closed_form():
     print(f"MEASURED true error / estimate over 4 laws x 3 e x 4 substep counts: {min(ratios):.2f} to "
           f"{max(ratios):.2f}")
     assert max(ratios) <= 1.8 and min(ratios) >= 0.6  # measured 0.80 to 1.56 (NIVe, e = 0.3, 8 substeps)
+
+
+def test_the_estimate_does_not_depend_on_the_contact_stiffness():
+    """Kept per law without its stiffness: a second stiffness must give the same errors (it scales out)."""
+    A._ERRORS.clear()
+    soft = [A.impact_error(make_law("LVe", stiffness=1e8, restitution=0.65), n) for n in (8, 64)]
+    A._ERRORS.clear()
+    # the soft law's outcomes stay kept: the stiff law's forces must not be mixed with them
+    stiff = [A.impact_error(make_law("LVe", stiffness=3e9, restitution=0.65), n) for n in (8, 64)]
+    print(f"MEASURED LVe estimate at k = 1e8 and 3e9 N/m: {soft} / {stiff}")
+    assert stiff == pytest.approx(soft, rel=1e-6)

@@ -81,6 +81,7 @@ def test_delayed_and_filtered_input_against_the_reference_twin():
     ag_b, _ = variant(ag, dt, tau, fc, 2)
     m = _model([a, b], ag, dt, t_end, size=0.006)
     m.buildings[1].ground_motion = BuildingMotion(delay=tau, lowpass=fc)
+    m.analysis.newmark.contact_substeps = 32  # the limits below were measured at 32, not at a tolerance's choice
     ds = sp.simulate(m, twin=False)
     dab = np.abs(ds.base_acceleration.sel(building="B").values - ag_b).max() / np.abs(ag_b).max()
     print(f"MEASURED spatial: B's stored base acceleration against variant() {dab:.1e} of its peak")

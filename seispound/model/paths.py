@@ -1,4 +1,4 @@
-"""Dotted paths into a parsed model file: how a study names the parameter it varies.
+"""Dotted paths into a parsed model file: how a study, a fit and a diagnosis name the parameter they vary.
 
 A path walks the TOML tables of a model file.  Arrays of tables are indexed
 1-based (``gap.1.size``), buildings also by name (``building.A.storey_stiffness``),

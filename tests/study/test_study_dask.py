@@ -1,8 +1,9 @@
-"""dask: the local scheduler, a LocalCluster started by the CLI, and an existing LocalCluster of two workers
-reached over loopback all give the store of the serial run."""
+"""dask: the local scheduler, a LocalCluster started by the CLI, and an existing LocalCluster of three workers
+reached over loopback (its tasks spread over several of them) all give the store of the serial run."""
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 import textwrap
@@ -12,14 +13,21 @@ import xarray as xr
 
 from .conftest import cli
 
-CLUSTER = textwrap.dedent("""
-    import sys
-    from dask.distributed import LocalCluster
+N_WORKERS = 3
+CLUSTER = textwrap.dedent(f"""
+    import json, sys
+    from dask.distributed import Client, LocalCluster
     if __name__ == "__main__":
-        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+        cluster = LocalCluster(n_workers={N_WORKERS}, threads_per_worker=1, processes=True, host="127.0.0.1",
                                dashboard_address=None)
+        client = Client(cluster)
+        client.wait_for_workers({N_WORKERS})
         print(cluster.scheduler_address, flush=True)
+        sys.stdin.readline()  # the test's study is done: say which worker ran how many tasks
+        counts = client.run(lambda dask_worker: dask_worker.state.executed_count)
+        print(json.dumps(counts), flush=True)
         sys.stdin.read()  # until the test closes our stdin
+        client.close()
         cluster.close()
 """)
 
@@ -50,10 +58,16 @@ def test_existing_cluster_on_loopback_gives_the_local_scheduler_store(reference_
         out = tmp_path / "remote.h5"
         res = cli(["study", study_file, "-o", out, "--scheduler", address])
         assert res.returncode == 0, res.stderr
+        proc.stdin.write("done\n")
+        proc.stdin.flush()
+        executed = json.loads(proc.stdout.readline())
+        assert len(executed) == N_WORKERS
+        assert sum(n > 0 for n in executed.values()) >= 2, executed  # the runs went to several workers
+        assert sum(executed.values()) == 12 + 2  # 12 chunks of one run (12 runs, 3 workers) and the 2 twins
         a = xr.open_dataset(local, engine="h5netcdf").load()
         assert a.identical(xr.open_dataset(ref, engine="h5netcdf").load())
         b = xr.open_dataset(out, engine="h5netcdf").load()
-        assert a.identical(b)
+        assert a.identical(b)  # every variable, coordinate and attribute
     finally:
         proc.stdin.close()
         proc.wait(timeout=60)

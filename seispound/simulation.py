@@ -275,8 +275,13 @@ def impact_error_of(model, n) -> float:
     """The isolated-impact estimate at ``n`` substeps for the row's laws (``seispound.accuracy``)."""
     from .accuracy import impact_error
 
+    return max((impact_error(law, int(n)) for law in _laws(model)), default=0.0)
+
+
+def _laws(model) -> list:
+    """The contact laws of the row's gaps (a gap's own, else the model's), each once."""
     laws = {id(law): law for law in (g.law or model.contact for g in model.gaps) if law is not None}
-    return max((impact_error(law, int(n)) for law in laws.values()), default=0.0)
+    return list(laws.values())
 
 
 def contact_substeps(model):
@@ -292,8 +297,7 @@ def contact_substeps(model):
     nm = model.analysis.newmark
     if nm.contact_substeps is not None:
         return nm, float("nan")
-    laws = [g.law or model.contact for g in model.gaps]
-    n, estimate = choose_contact_substeps([law for law in laws if law is not None], model.analysis.tolerance)
+    n, estimate = choose_contact_substeps(_laws(model), model.analysis.tolerance)
     limit = nm.stability_limit()
     if np.isfinite(limit):
         n = max(n, int(np.ceil(1.0 / (2.0 * limit) + 1e-12)))

@@ -1,6 +1,6 @@
 """Where the pounding kernel spends its time: a sampling profile by function.
 
-``python -m benchmarks.profile_kernel [--model M | --row BxS] [--seconds S]``
+``python -m benchmarks.profile_kernel [--model M | --row BxS] [--physics NAME] [--seconds S]``
 (Linux, needs ``perf`` and ``nm`` on the PATH).
 
 numba's compiled code has no symbols that ``perf`` can see, so this does it in
@@ -42,11 +42,12 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parent.parent
 
 
-def _child(model: str, row: str | None, out: Path, seconds: float) -> int:
+def _child(model: str, row: str | None, out: Path, seconds: float, physics: str | None = None) -> int:
     from seispound import load_model
+    from seispound.integrate import _general as G
     from seispound.integrate import _kernel as K
     from seispound.integrate import integrate
-    from seispound.simulation import prepare_ground_motion
+    from seispound.simulation import newmark_substeps, prepare_ground_motion, run_inputs
     from seispound.structure import assemble
 
     if row:  # a row of the scaling benchmark: B buildings of S storeys, 20 s of El Centro
@@ -59,6 +60,16 @@ def _child(model: str, row: str | None, out: Path, seconds: float) -> int:
 
         def run():
             return integrate(system, ag, dt, nsteps)
+    elif physics:  # a case of benchmarks.physics (its driver's kernel is profiled)
+        from .physics import cases
+
+        m = cases(load_model(model))[physics]
+        an = m.analysis
+        system, motions = run_inputs(m)
+        n_nm = newmark_substeps(m, system)
+
+        def run():
+            return integrate(system, motions.rows, an.dt, an.nsteps, an.newmark, substeps=n_nm)
     else:
         m = load_model(model)
         an = m.analysis
@@ -69,7 +80,8 @@ def _child(model: str, row: str | None, out: Path, seconds: float) -> int:
             return integrate(system, ag, an.dt, an.nsteps, an.newmark)
 
     raw = run()
-    cres = next(iter(K.integrate_kernel.overloads.values()))
+    kernel = G.general_kernel if raw.driver == "general" else K.integrate_kernel
+    cres = next(iter(kernel.overloads.values()))
     lib = cres.library
     if not (out / "kernel.o").exists():
         # first child: compiled into the fresh cache, so the object code is at hand; stop here
@@ -119,12 +131,14 @@ def main(argv=None) -> int:
     ap.add_argument("--model", default=str(REPO / "models" / "row_of_three.toml"))
     ap.add_argument("--row", help="instead of a model: a row of the scaling benchmark, e.g. 4x25 "
                     "(buildings x storeys, 20 s of El Centro 180, Hd, gaps 2 cm)")
+    ap.add_argument("--physics", help="instead of the model as it is: a case of benchmarks.physics on it, e.g. "
+                    "'flexible foundation' (the general driver's kernel when it runs there)")
     ap.add_argument("--seconds", type=float, default=10.0, help="length of the sampled loop (default 10)")
     ap.add_argument("--frequency", type=int, default=10000, help="perf sampling frequency [Hz]")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
-        return _child(args.model, args.row, Path(args.child), args.seconds)
+        return _child(args.model, args.row, Path(args.child), args.seconds, args.physics)
     for tool in ("perf", "nm"):
         if shutil.which(tool) is None:
             print(f"benchmarks.profile_kernel: {tool} not found on the PATH", file=sys.stderr)
@@ -134,7 +148,8 @@ def main(argv=None) -> int:
         env = dict(os.environ, NUMBA_CACHE_DIR=str(out / "numba-cache"))
         print("compiling the kernel into a fresh numba cache (about a minute) ...", file=sys.stderr, flush=True)
         cmd = [sys.executable, "-m", "benchmarks.profile_kernel", "--model", args.model,
-               "--seconds", str(args.seconds), "--child", str(out)] + (["--row", args.row] if args.row else [])
+               "--seconds", str(args.seconds), "--child", str(out)] + (["--row", args.row] if args.row else []) \
+            + (["--physics", args.physics] if args.physics else [])
         if subprocess.run(cmd, cwd=REPO, env=env).returncode != 0 or not (out / "kernel.o").exists():
             print("benchmarks.profile_kernel: compiling the kernel failed", file=sys.stderr)
             return 2
@@ -185,7 +200,7 @@ def main(argv=None) -> int:
             dso = p[1].strip("()") if len(p) > 1 else "?"
             outside[Path(dso).name if dso.startswith("/") else dso] += 1
     n_in = sum(inside.values())
-    what = f"row {args.row}" if args.row else f"model {args.model}"
+    what = f"row {args.row}" if args.row else f"model {args.model}" + (f", {args.physics}" if args.physics else "")
     print(f"{what}: {runs[1]} runs of integrate() back to back, {float(runs[2]) * 1e3:.2f} ms each; "
           f"{total} samples at {args.frequency} Hz")
     print(f"stats of one run: {stats}")

@@ -68,6 +68,7 @@ from ._outputs import (
     OK,
     S_DOF_STEPS,
     S_FACTORIZATIONS,
+    S_FREE_FLIGHT,
     S_ITERATIONS,
     S_MAX_ITER,
     S_REJECTED,
@@ -291,6 +292,58 @@ def _deformation(ne_dof, ne_coef, ne_size, q, u, du, v, c, gk, row):
             _dot(ne_dof, ne_coef, q, v) + c * bdu + gk[row + 1, q])
 
 
+@njit(cache=True, fastmath=True)
+def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs):
+    """Every building's state after one analysis step with every gap open, and the step's input work [J].
+
+    ff = (on, start, off_x, off_g, off_e, phi, G0, G1, Egx, Egg): the maps of ``transition.py``,
+    [u1; v1; a1] = Phi x0 + G0 g0 + G1 g1 per building (x0 = [u; v] on its DOFs), the input work
+    g^T Egx x0 + g^T Egg g with g = [g0; g1] the ground accelerations of the motion rows at the
+    step's start and end.  xs: scratch (2 n + 2 nm,).  (fastmath: sums may be reordered, and so
+    vectorised; round-off only.)
+    """
+    start, off_x, off_g, off_e, phi, G0, G1, egx, egg = ff[1], ff[2], ff[3], ff[4], ff[5], ff[6], ff[7], ff[8], ff[9]
+    nm = g0.size
+    gs = xs[xs.size - 2 * nm:]
+    for m in range(nm):
+        gs[m] = g0[m]
+        gs[nm + m] = g1[m]
+    de = 0.0
+    for c in range(start.size - 1):
+        a = start[c]
+        nb = start[c + 1] - a
+        nx = 2 * nb
+        for k in range(nb):  # x0 = [u; v] of the building, contiguous
+            xs[k] = u[a + k]
+            xs[nb + k] = v[a + k]
+        for r in range(3 * nb):
+            base = off_x[c] + r * nx
+            s = 0.0
+            for k in range(nx):
+                s += phi[base + k] * xs[k]
+            bg = off_g[c] + r * nm
+            for m in range(nm):
+                s += G0[bg + m] * gs[m] + G1[bg + m] * gs[nm + m]
+            if r < nb:
+                u1[a + r] = s
+            elif r < nx:
+                v1[a + r - nb] = s
+            else:
+                a1[a + r - nx] = s
+        for m in range(2 * nm):
+            if gs[m] == 0.0:
+                continue
+            row = off_e[c] + m * nx
+            s = 0.0
+            for k in range(nx):
+                s += egx[row + k] * xs[k]
+            de += gs[m] * s
+    for i in range(2 * nm):
+        for j in range(2 * nm):
+            de += gs[i] * egg[i, j] * gs[j]
+    return de
+
+
 @njit(cache=True)
 def _screen(ne_gap, active, d0, r0, d1, r1, h, landed, target, land_too):
     """The first event of any gap in a trial step: (theta, gap, n_land) (theta 2: none).
@@ -319,9 +372,49 @@ def _screen(ne_gap, active, d0, r0, d1, r1, h, landed, target, land_too):
 
 
 @njit(cache=True)
+def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1, gk, state, gaps, umax):
+    """The analysis step ending at t_end in free flight (``_free_flight_trial``), accepted if no gap touches in it.
+
+    el = (ne_dof, ne_coef, ne_size, ne_gap); state = (u, v, a, u1, v1, a1, xs, zero); gaps = (d0, r0,
+    d1, r1, land_too).  Returns (accepted, input work [J], work of the linear elements and dampers
+    [J]); the latter from the balance, input = kinetic + that work, as nothing else acts (module
+    docstring of ``transition.py``).  Not accepted, nothing but the trial arrays changed.
+    """
+    ne_dof, ne_coef, ne_size, ne_gap = el
+    u, v, a, u1, v1, a1, xs, zero = state
+    d0, r0, d1, r1, land_too = gaps
+    _ground_all(ag, t_end, dt, g_1)
+    de = _free_flight_trial(ff, u, v, g_t, g_1, u1, v1, a1, xs)
+    if moving:
+        _gap_ground_all(ne_ground, t_end, dt, gk, GU1)
+    for q in range(ne_gap.size):
+        if ne_gap[q]:
+            d1[q], r1[q] = _deformation(ne_dof, ne_coef, ne_size, q, u1, zero, v1, 0.0, gk, GU1)
+    g_ev = _screen(ne_gap, active, d0, r0, d1, r1, dt, False, -1, land_too)[1]
+    if g_ev >= 0:
+        return False, 0.0, 0.0
+    ms_dof, ms_coef, ms_val = lin[0], lin[1], lin[2]
+    dke = kinetic_energy(ms_dof, ms_coef, ms_val, v1) - kinetic_energy(ms_dof, ms_coef, ms_val, v)
+    for i in range(u.size):
+        u[i] = u1[i]
+        v[i] = v1[i]
+        a[i] = a1[i]
+        umax[i] = max(umax[i], abs(u[i]))
+    for q in range(ne_gap.size):
+        if ne_gap[q]:
+            d0[q] = d1[q]
+            r0[q] = r1[q]
+    for r in range(g_t.size):
+        g_t[r] = g_1[r]
+    if moving:
+        _gap_ground_accept(gk)
+    return True, de, de - dke
+
+
+@njit(cache=True)
 def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, dof_load, dof_motion, dof_infl,
                    ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi, state0, ag, moving, ne_ground,
-                   u_init, v_init, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store, tangent, pT, lev_free,
+                   u_init, v_init, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store, tangent, pT, lev_free, ff,
                    out_u, out_v, out_a, out_f, out_e, umax, fmax,
                    imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e, stats):
     """Integrate; fill the outputs; return (status, n_impacts, t_reached).
@@ -347,6 +440,10 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     tangent : a group of active elements that holds a storey iterates on the banded tangent
     (``_newton_tangent``, half bandwidth pT with the storeys); False: every group on the dense
     condensed system (``_newton``), the off switch the tests compare against.
+    ff : (on, start, off_x, off_g, off_e, phi, G0, G1, Egx, Egg): while no element is active (no storey with
+    history, every gap open) an analysis step is one map per building (``transition.py``: exact, or
+    the same Newmark substeps composed), screened for gap events; on False, or when the screen finds
+    an event, the step is taken on the physical path.
     """
     # arguments: alive for the whole call, so borrowed (``_borrow``: no reference counting in the loop)
     ms_dof, ms_coef, ms_val, ms_a0 = borrow(ms_dof), borrow(ms_coef), borrow(ms_val), borrow(ms_a0)
@@ -359,6 +456,8 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     out_e, umax, fmax, stats = borrow(out_e), borrow(umax), borrow(fmax), borrow(stats)
     imp_gap, imp_t0, imp_v0, imp_vout = borrow(imp_gap), borrow(imp_t0), borrow(imp_v0), borrow(imp_vout)
     imp_fmax, imp_dur, imp_zeta, imp_e = borrow(imp_fmax), borrow(imp_dur), borrow(imp_zeta), borrow(imp_e)
+    ff = (ff[0], borrow(ff[1]), borrow(ff[2]), borrow(ff[3]), borrow(ff[4]), borrow(ff[5]), borrow(ff[6]),
+          borrow(ff[7]), borrow(ff[8]), borrow(ff[9]))
     n = u_init.size
     nn = ne_size.size
     nm = ag.shape[0]
@@ -429,11 +528,16 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     g_t = np.empty(nm)
     g_1 = np.empty(nm)
     zero = np.zeros(n)
+    u1 = np.empty(n)  # a free-flight step's trial state
+    v1 = np.empty(n)
+    a1 = np.empty(n)
+    xs = np.empty(2 * n + 2 * nm)
     # the work arrays: owned by this tuple (kept alive to the end), used through borrowed aliases
     owners = (L_lev, have_lev, h_lev, L_h, LM, u, v, a, Vv, Av, R0, Du, work, flin, flin1, W_lev, W_scr, Wok_lev,
               Wok_scr, act, comp_off, Gm, Sm, ym, Fm, dl, rl, resv, kt, Aband, T, zt, xt, Wt, gpos, st_c, st_t, F,
               F1, F_old, h_old, active, zeta, hsub, age, cur_imp, d0, r0, d1, r1, toggles, land_too, gk, g_t, g_1,
-              zero)
+              zero, u1, v1, a1, xs)
+    u1, v1, a1, xs = borrow(u1), borrow(v1), borrow(a1), borrow(xs)
     L_lev, have_lev, h_lev, L_h, LM = borrow(L_lev), borrow(have_lev), borrow(h_lev), borrow(L_h), borrow(LM)
     u, v, a, Vv, Av, R0, Du = borrow(u), borrow(v), borrow(a), borrow(Vv), borrow(Av), borrow(R0), borrow(Du)
     work, flin, flin1, W_lev, W_scr = borrow(work), borrow(flin), borrow(flin1), borrow(W_lev), borrow(W_scr)
@@ -491,9 +595,32 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
             e_in, w_lin, w_hys, e_cont, out_u, out_v, out_a, out_f, out_e, umax, fmax, True)
 
     hmin = 1e-9 * dt
+    flin_stale = False
     step = 0
     while step < nsteps:
         t_end = (step + 1) * dt
+        if ff[0] and m_act == 0:
+            # ---- FREE FLIGHT: the whole analysis step by each building's linear map, if no gap event is in it
+            ok, de, dw = _free_flight(ff, t_end, dt, ag, ne_ground, moving, (ne_dof, ne_coef, ne_size, ne_gap), active,
+                                      lin, g_t, g_1, gk, (u, v, a, u1, v1, a1, xs, zero), (d0, r0, d1, r1, land_too),
+                                      umax)
+            if ok:
+                t = t_end
+                flin_stale = True
+                e_in += de
+                w_lin += dw
+                stats[S_FREE_FLIGHT] += 1
+                stats[S_STEPS] += 1
+                stats[S_DOF_STEPS] += n
+                step += 1
+                if store:
+                    _output(step, store, u, v, a, g_t, dof_motion, dof_infl, F, lin, ne_code, ne_par, ne_gap, st_c,
+                            d0, es_lin0, rec0, e_in, w_lin, w_hys, e_cont, out_u, out_v, out_a, out_f, out_e, umax,
+                            fmax, False)
+                continue
+        if flin_stale:  # K u + C v at the state free flight left (the corrector's trapezoidal work needs it)
+            linear_forces(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, u, v, flin)
+            flin_stale = False
         while t_end - t > 1e-9 * dt:
             # ---- step size: the rest of the analysis step, or the contact substep grid
             h, lev = _contact_step(t, t_end, dt, m_act, act, ne_code, hsub, age, h_lev, N_LEVELS, lev_free)

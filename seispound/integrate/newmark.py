@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import math
 import os
 import sys
@@ -46,6 +47,8 @@ class RawResult:
     storey_force: np.ndarray | None = None
     storey_dofs: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))  # the DOF above each
     driver: str = "fast"
+    # the scheme between impacts: "exact" or "newmark" (the general driver without free flight: "newmark")
+    scheme: str = "exact"
     drift: np.ndarray | None = None  # (nt, n) m: set by results.floors.floor_view (storey deformations)
 
 
@@ -247,10 +250,10 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         raise ValueError("this row needs the general driver (storeys with history, coupled masses, "
                          "three-DOF elements or gaps against storeys)")
     if driver == "general" or (driver == "auto" and system.needs_general_driver):
+        _check_scheme(scheme)
         return _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capacity, store_history,
-                                  tangent, substeps, contact_step)
-    if scheme not in ("exact", "newmark"):
-        raise InputError(f'scheme must be "exact" or "newmark", got {scheme!r}', key="analysis.scheme")
+                                  tangent, substeps, contact_step, free_flight, scheme)
+    _check_scheme(scheme)
     if not 0.0 <= wait_share <= 1.0:
         raise ValueError(f"wait_share must lie in [0, 1], got {wait_share!r}")
     ag = np.atleast_2d(np.asarray(ground_acceleration, dtype=float))
@@ -323,6 +326,11 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     return RawResult(time=np.arange(nt) * dt, displacement=out["out_u"], velocity=out["out_v"],
                      acceleration=out["out_a"], force=force, energy=out["out_e"],
                      peak_displacement=out["umax"], peak_force=peak_force, impacts=imp, stats=stats)
+
+
+def _check_scheme(scheme):
+    if scheme not in ("exact", "newmark"):
+        raise InputError(f'scheme must be "exact" or "newmark", got {scheme!r}', key="analysis.scheme")
 
 
 def _catalogue(cap) -> dict:
@@ -400,9 +408,10 @@ def _element_ranges(tab, n):
 
 
 def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capacity, store_history,
-                       tangent=True, substeps=None, contact_step=math.inf) -> RawResult:
-    """``integrate`` on the general driver (``_general.py``): Newmark throughout, every law through the
-    material protocol."""
+                       tangent=True, substeps=None, contact_step=math.inf, free_flight=True,
+                       scheme="exact") -> RawResult:
+    """``integrate`` on the general driver (``_general.py``): every law through the material protocol, Newmark
+    steps, and the analysis steps with no element active in free flight (``transition.py``) where valid."""
     from . import _general as G
     from ._material import N_STATE
 
@@ -429,6 +438,11 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     ne_lo, ne_hi = _element_ranges(tab, n)
     p_tangent = max(int(tab["p"]), bandwidth(n, tab["ne_dof"][~ne_gap]))  # the band with the storeys in it
     lev_free = int(round(math.log2(substeps))) if substeps else 0
+    ff = _free_flight_maps(system, tab, hyst, ag.shape[0], dt, nm, scheme, 2 ** lev_free) if free_flight else None
+    i0 = np.zeros(1, np.int64)
+    ff_args = ((True, ff.start, ff.off_x, ff.off_g, ff.off_e, ff.phi, ff.g0, ff.g1, ff.egx, ff.egg) if ff is not None
+               else (False, i0, i0, i0, i0, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 0))))
+
     def run(cap):
         out = dict(out_u=np.zeros((nt, n)), out_v=np.zeros((nt, n)), out_a=np.zeros((nt, n)),
                    out_f=np.zeros((nt, nn)), out_e=np.zeros((nt, 6)), umax=np.zeros(n), fmax=np.zeros(nn),
@@ -440,7 +454,8 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
             tab["ne_dof"], tab["ne_coef"], tab["ne_size"], tab["ne_code"], tab["ne_par"], ne_gap, ne_lo, ne_hi,
             np.zeros((nn, N_STATE)), ag, moving, ground, np.asarray(system.u0, float), np.asarray(system.v0, float),
             float(dt), int(nsteps), float(nm.beta), float(nm.gamma), (_substeps(nm), float(contact_step)),
-            float(nm.rtol), int(nm.max_iter), bool(store_history), bool(tangent), int(p_tangent), lev_free, **out),
+            float(nm.rtol), int(nm.max_iter), bool(store_history), bool(tangent), int(p_tangent), lev_free, ff_args,
+            **out),
             out)
 
     n_imp, out = _run_growing(run, cap)
@@ -456,10 +471,41 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     st = out["stats"]
     stats = dict(steps=int(st[K.S_STEPS]), iterations=int(st[K.S_ITERATIONS]),
                  rejected=int(st[K.S_REJECTED]), factorizations=int(st[K.S_FACTORIZATIONS]),
-                 max_iterations=int(st[K.S_MAX_ITER]), free_flight_steps=0, free_flight_blocks=0,
+                 max_iterations=int(st[K.S_MAX_ITER]), free_flight_steps=int(st[K.S_FREE_FLIGHT]), free_flight_blocks=0,
                  waiting_steps=0, joins=0, dof_steps=int(st[K.S_DOF_STEPS]))
     return RawResult(time=np.arange(nt) * dt, displacement=out["out_u"], velocity=out["out_v"],
                      acceleration=out["out_a"], force=force, energy=out["out_e"],
                      peak_displacement=out["umax"], peak_force=peak_force, impacts=imp, stats=stats,
                      storey_elements=hyst, storey_force=out["out_f"][:, np.flatnonzero(~ne_gap)],
-                     storey_dofs=system.el_i[hyst].astype(np.int64), driver="general")
+                     storey_dofs=system.el_i[hyst].astype(np.int64), driver="general",
+                     scheme=scheme if ff is not None else "newmark")
+
+
+def _free_flight_maps(system, tab, hyst, nm_rows, dt, nm, scheme, substeps):
+    """The general driver's free-flight maps (``transition.Transition``), or None where they do not apply.
+
+    They apply when no element has state but the gaps (no storey with history), every building is a
+    contiguous run of at most ``transition.MAX_BLOCK_DOFS`` DOFs, and, for the Newmark scheme, the
+    rule is average acceleration (whose trapezoidal energy sums the free-flight balance reproduces).
+    """
+    from .transition import transition
+
+    if hyst.size or (scheme == "newmark" and (nm.beta, nm.gamma) != (0.25, 0.5)):
+        return None
+    dof_motion = np.asarray(system.dof_motion, np.int64)
+    # kept per content: a run's no-pounding twin, the tolerance's check and a study's runs share the row's
+    # linear part, and the matrix exponentials cost about a millisecond per building
+    h = hashlib.blake2b(repr((nm_rows, float(dt), scheme, nm.beta, nm.gamma, substeps)).encode())
+    for k in ("ms_dof", "ms_coef", "ms_val", "ms_a0", "le_dof", "le_coef", "le_k", "le_c", "dof_load"):
+        h.update(np.ascontiguousarray(tab[k]).tobytes())
+    h.update(dof_motion.tobytes())
+    key = h.digest()
+    if key not in _TRANSITIONS:
+        if len(_TRANSITIONS) >= 32:
+            _TRANSITIONS.pop(next(iter(_TRANSITIONS)))
+        _TRANSITIONS[key] = transition(tab, system.n_dof, dof_motion, nm_rows, dt, scheme, nm.beta, nm.gamma,
+                                       substeps)
+    return _TRANSITIONS[key]
+
+
+_TRANSITIONS: dict = {}  # content digest -> transition.Transition (or None), oldest first

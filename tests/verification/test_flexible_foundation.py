@@ -102,10 +102,16 @@ def test_multistorey_period_within_two_percent_of_veletsos_meek():
     assert abs(T / T_vm - 1) <= 0.008  # measured +0.33 %
 
 
-# displacement NE at dt = 0.1 ms: measured 2.4e-4 (undamped), 2.7e-6 (with dashpots)
+# displacement NE at dt = 0.1 ms, Newmark: measured 2.4e-4 (undamped), 2.7e-6 (with dashpots)
+@pytest.mark.parametrize("scheme", ["newmark", "exact"])
 @pytest.mark.parametrize("dashpots, limit", [(False, 6e-4), (True, 7e-6)])
-def test_free_vibration_equals_the_matrix_exponential(dashpots, limit):
-    """Three storeys on a foundation (modes 2.7-23.5 Hz), released with floor velocities; 1 s."""
+def test_free_vibration_equals_the_matrix_exponential(dashpots, limit, scheme):
+    """Three storeys on a foundation (modes 2.7-23.5 Hz), released with floor velocities; 1 s.
+
+    Closed form: e^(A t) x0.  Newmark's steps (every step physical or its free-flight map, which composes
+    the same steps) converge at second order; the exact scheme's free flight (one matrix exponential
+    per building and step, ``integrate/transition.py``) is exact to round-off at any step.
+    """
     n = 3
     cx, ct = (3e6, 8e7) if dashpots else (0.0, 0.0)
     b, _ = _building(n, 0.3 * M * n, 0.05 * M * n * (n * H) ** 2, 5e8, 2e10, cx, ct,
@@ -118,17 +124,20 @@ def test_free_vibration_equals_the_matrix_exponential(dashpots, limit):
     errs = []
     for dt in (2e-4, 1e-4):
         nsteps = int(round(1.0 / dt))
-        raw = integrate(system, np.zeros(nsteps + 1), dt, nsteps)
-        assert raw.driver == "general"
+        raw = integrate(system, np.zeros(nsteps + 1), dt, nsteps, scheme=scheme)
+        assert raw.driver == "general" and raw.stats["free_flight_steps"] == nsteps
         t = np.arange(nsteps + 1) * dt
         y = np.array([expm(A * tk) @ np.concatenate([system.u0, system.v0]) for tk in t[::50]])
         ne = np.linalg.norm(raw.displacement[::50] - y[:, :nd], axis=0) / np.linalg.norm(y[:, :nd], axis=0)
         errs.append(ne.max())
         e = raw.energy
         balance = np.abs(e[:, 0] - e[:, 1:].sum(axis=1)).max() / e[0, 0]
-        print(f"MEASURED free vibration on a foundation (dashpots {dashpots}), dt {dt:g}: displacement NE "
+        print(f"MEASURED free vibration on a foundation ({scheme}, dashpots {dashpots}), dt {dt:g}: displacement NE "
               f"{ne.max():.1e} (worst DOF), energy balance {balance:.1e}")
         assert balance <= 3e-11  # measured up to 2.7e-12: round-off, ~10x
+    if scheme == "exact":
+        assert max(errs) <= 1e-11  # measured 8.6e-14 .. 1.2e-12: round-off, ~10x
+        return
     assert errs[1] <= limit  # Newmark's period error on the 23.5 Hz mode, 1.2e-4 rad per cycle
     assert errs[0] / errs[1] >= 3.5  # second order (measured 4.0, 4.1)
 

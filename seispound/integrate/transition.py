@@ -1,0 +1,250 @@
+"""State transition of a linear row over one analysis step, for the general driver's free flight.
+
+While every gap is open and no element has state, a row on the general driver
+(foundations, soil cones, coupled masses, floor-to-storey gaps) is linear:
+
+    M u'' + C u' + K u = -L g(t),        x = [u; u'],   x' = A x + B g(t),
+
+with A = [[0, I], [-M^-1 K, -M^-1 C]], B = [[0], [-M^-1 L]] and L (n, nm) the load
+of each ground-motion row (M iota).  Its damping need not be classical (a
+dashpot under a foundation, the soil cone's), so modes do not decouple it; but
+its buildings do not touch, and over one analysis step with the ground
+acceleration linear between samples each building's state maps linearly,
+
+    x1 = Phi x0 + G0 g0 + G1 g1,   a1 = -M^-1 (K u1 + C v1 + L g1),
+
+and the input energy of the step is a quadratic form in (x0, g0, g1):
+
+    E_in,1 - E_in,0 = g^T Egx x0 + g^T Egg g,    g = [g0; g1].
+
+Two schemes give these maps:
+
+* ``exact``: the exact solution for the piecewise-linear ground acceleration.
+  Phi and the G from one matrix exponential of the system augmented by the
+  ground acceleration and its slope (Van Loan 1978, Sec. 1; Moler & Van Loan
+  2003, method 19 for the exponential), and the input work
+  -int g^T L^T u' dt over the step from Van Loan's block exponential for
+  integrals of quadratic forms (Van Loan 1978, Thm. 1: for
+  C = [[-F^T, N], [0, F]], int_0^h e^(F^T s) N e^(F s) ds = E22^T E12 with
+  E = e^(C h)).
+* ``newmark``: ``substeps`` Newmark-beta steps (Chopra, Dynamics of Structures,
+  Table 5.7.2), each with the ground acceleration interpolated linearly
+  within the analysis step, composed into one map; the input work is the
+  physical path's trapezoidal sum, composed the same way.  The general
+  driver's physical path takes exactly these steps, so the two agree to
+  round-off: the off switch compares them.
+
+Either way the damping work of a step follows from the balance, input =
+kinetic + linear strain + damping (nothing else acts in free flight): exact
+for the exact scheme, and equal to the trapezoidal sums for average
+acceleration (beta = 1/4, gamma = 1/2: the inertia's trapezoidal work is the
+kinetic energy's change exactly).  Derived here; not read from a source.
+
+Cost per analysis step: (2 n_b)^2 multiply-adds per building b for the state,
+against a banded factor solve per Newmark substep on the physical path.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.linalg import expm
+
+__all__ = ["Transition", "transition", "blocks_of", "MAX_BLOCK_DOFS"]
+
+# Largest building (DOFs) that takes free flight: the dense transition costs (2 n_b)^2 per
+# step, a Newmark substep on the band about 30 n_b flops, so beyond ~100 DOFs the
+# physical path is the cheaper.
+MAX_BLOCK_DOFS = 96
+
+
+@dataclass(frozen=True)
+class Transition:
+    """One analysis step of each building's linear part, packed for the kernel.
+
+    Building c spans DOFs ``start[c]:start[c+1]`` (n_c DOFs, state 2 n_c = [u; v]).
+    Its maps give the end-of-step displacements, velocities and relative accelerations
+    [u1; v1; a1] (3 n_c rows) from x0 = [u0; v0] and the ground accelerations; they lie one
+    after the other, row-major, at ``off_x[c]`` (Phi, (3 n_c, 2 n_c)), ``off_g[c]`` (G0, G1:
+    (3 n_c, nm)) and ``off_e[c]`` (Egx: (2 nm, 2 n_c)).
+
+    Attributes
+    ----------
+    start : (nc + 1,) int64
+    off_x, off_g, off_e : (nc + 1,) int64
+    phi : (sum 6 n_c^2,) float  [-, s, 1/s, 1/s^2]  [u1; v1; a1] = Phi x0 ...
+    g0, g1 : (sum 3 n_c nm,) float  [s^2, s, -]  ... + G0 g0 + G1 g1 (g in m/s^2)
+    egx : (sum 4 n_c nm,) float  [kg m/s, kg]  input work's bilinear part
+    egg : (2 nm, 2 nm) float [kg s^2]  its part quadratic in the ground accelerations (all buildings)
+    """
+
+    start: np.ndarray
+    off_x: np.ndarray
+    off_g: np.ndarray
+    off_e: np.ndarray
+    phi: np.ndarray
+    g0: np.ndarray
+    g1: np.ndarray
+    egx: np.ndarray
+    egg: np.ndarray
+
+
+def blocks_of(tab: dict, n: int) -> np.ndarray | None:
+    """First DOF of each building (connected DOFs under masses and linear elements), (nc + 1,) int64.
+
+    None if a building is not a contiguous run of DOFs or holds more than MAX_BLOCK_DOFS.
+    """
+    parent = np.arange(n)
+
+    def find(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    for dof in (tab["ms_dof"], tab["le_dof"]):
+        for row in dof:
+            used = [int(d) for d in row if d >= 0]
+            for d in used[1:]:
+                parent[find(d)] = find(used[0])
+    root = np.array([find(i) for i in range(n)])
+    start = [0] + [i for i in range(1, n) if root[i] != root[i - 1]] + [n]
+    seen = set()
+    for a, b in zip(start[:-1], start[1:]):
+        if root[a] in seen or b - a > MAX_BLOCK_DOFS:
+            return None  # a building in two runs, or too large
+        seen.add(root[a])
+    return np.asarray(start, np.int64)
+
+
+def _matrices(tab: dict, n: int):
+    """Dense M [kg], C [N s/m], K [N/m] of the linear part (masses and linear elements), (n, n)."""
+    M, C, K = np.zeros((n, n)), np.zeros((n, n)), np.zeros((n, n))
+
+    def add(A, dof, coef, c):
+        b = np.zeros(n)
+        used = dof >= 0
+        b[dof[used]] = coef[used]
+        A += c * np.outer(b, b)
+
+    for e in range(tab["ms_val"].size):
+        add(M, tab["ms_dof"][e], tab["ms_coef"][e], tab["ms_val"][e])
+        add(C, tab["ms_dof"][e], tab["ms_coef"][e], tab["ms_a0"][e] * tab["ms_val"][e])
+    for e in range(tab["le_k"].size):
+        add(K, tab["le_dof"][e], tab["le_coef"][e], tab["le_k"][e])
+        add(C, tab["le_dof"][e], tab["le_coef"][e], tab["le_c"][e])
+    return M, C, K
+
+
+def transition(tab: dict, n: int, dof_motion: np.ndarray, nm: int, dt: float, scheme: str,
+               beta: float = 0.25, gamma: float = 0.5, substeps: int = 1) -> Transition | None:
+    """The per-building maps of one analysis step ``dt`` [s] (module docstring), or None where not valid.
+
+    ``tab``: ``SystemArrays.element_tables()`` of a row with no element of state other
+    than gaps; ``dof_motion`` (n,) the motion row of each DOF; ``scheme`` "exact" or
+    "newmark" (``beta``, ``gamma``, ``substeps`` Newmark steps per analysis step).
+    """
+    start = blocks_of(tab, n)
+    if start is None:
+        return None
+    M, C, K = _matrices(tab, n)
+    L = np.zeros((n, nm))
+    L[np.arange(n), dof_motion] = tab["dof_load"]
+    phi, g0, g1, egx = [], [], [], []
+    egg = np.zeros((2 * nm, 2 * nm))
+    for a, b in zip(start[:-1], start[1:]):
+        s = slice(a, b)
+        Mb, Cb, Kb, Lb = M[s, s], C[s, s], K[s, s], L[s]
+        P, G0, G1, Egx, Egg = (_exact_maps if scheme == "exact" else _newmark_maps)(
+            Mb, Cb, Kb, Lb, dt, beta, gamma, substeps)
+        # the accelerations from equilibrium at the step's end: a1 = -M^-1 ([K C] x1 + L g1)
+        KC = np.linalg.solve(Mb, np.hstack([Kb, Cb]))
+        ML = np.linalg.solve(Mb, Lb)
+        P, G0, G1 = np.vstack([P, -KC @ P]), np.vstack([G0, -KC @ G0]), np.vstack([G1, -KC @ G1 - ML])
+        for lst, x in zip((phi, g0, g1, egx), (P, G0, G1, Egx)):
+            lst.append(np.ascontiguousarray(x).ravel())
+        egg += Egg
+    sizes = np.diff(start)
+
+    def offsets(size):
+        return np.concatenate([[0], np.cumsum(size)]).astype(np.int64)
+
+    return Transition(start=start, off_x=offsets(6 * sizes * sizes), off_g=offsets(3 * sizes * nm),
+                      off_e=offsets(4 * sizes * nm), phi=np.concatenate(phi), g0=np.concatenate(g0),
+                      g1=np.concatenate(g1), egx=np.concatenate(egx), egg=egg)
+
+
+def _split(Q, nx, nm):
+    """(Egx, Egg) of a quadratic form z^T Q z in z = [x (nx); g0 (nm); g1 (nm)] with no x-x part."""
+    Qs = 0.5 * (Q + Q.T)
+    return 2.0 * Qs[nx:, :nx], Qs[nx:, nx:]
+
+
+def _exact_maps(M, C, K, L, h, beta, gamma, substeps):
+    """Phi, G0, G1, Egx, Egg of the exact step (Van Loan 1978)."""
+    nb, nm = L.shape
+    nx = 2 * nb
+    Minv = np.linalg.inv(M)
+    # w = [x; g; c], c the ground acceleration's slope: w' = F w
+    nw = nx + 2 * nm
+    F = np.zeros((nw, nw))
+    F[:nb, nb:nx] = np.eye(nb)
+    F[nb:nx, :nb] = -Minv @ K
+    F[nb:nx, nb:nx] = -Minv @ C
+    F[nb:nx, nx:nx + nm] = -Minv @ L
+    F[nx:nx + nm, nx + nm:] = np.eye(nm)
+    # the input power -g^T L^T v = w^T N w
+    N = np.zeros((nw, nw))
+    N[nx:nx + nm, nb:nx] = -L.T
+    N = 0.5 * (N + N.T)
+    big = np.zeros((2 * nw, 2 * nw))
+    big[:nw, :nw] = -F.T
+    big[:nw, nw:] = N
+    big[nw:, nw:] = F
+    E = expm(big * h)
+    E22, E12 = E[nw:, nw:], E[:nw, nw:]
+    Qw = E22.T @ E12  # int_0^h e^(F^T s) N e^(F s) ds
+    # w0 = T z, z = [x0; g0; g1]: c = (g1 - g0) / h
+    T = np.zeros((nw, nw))
+    T[:nx + nm, :nx + nm] = np.eye(nx + nm)
+    T[nx + nm:, nx:nx + nm] = -np.eye(nm) / h
+    T[nx + nm:, nx + nm:] = np.eye(nm) / h
+    X = E22[:nx] @ T
+    egx, egg = _split(T.T @ Qw @ T, nx, nm)
+    return X[:, :nx], X[:, nx:nx + nm], X[:, nx + nm:], egx, egg
+
+
+def _newmark_maps(M, C, K, L, h_dt, beta, gamma, substeps):
+    """Phi, G0, G1, Egx, Egg of ``substeps`` Newmark steps (the general driver's ``_predictor``)."""
+    nb, nm = L.shape
+    nx = 2 * nb
+    nz = nx + 2 * nm
+    h = h_dt / substeps
+    Minv = np.linalg.inv(M)
+    Khat_inv = np.linalg.inv(K + gamma / (beta * h) * C + M / (beta * h * h))
+    # every quantity as a linear map of z = [u0; v0; g0; g1]
+    U = np.zeros((nb, nz))
+    V = np.zeros((nb, nz))
+    U[:, :nb] = np.eye(nb)
+    V[:, nb:nx] = np.eye(nb)
+
+    def ground(j):  # the ground accelerations at substep j, interpolated within the analysis step
+        G = np.zeros((nm, nz))
+        G[:, nx:nx + nm] = (1.0 - j / substeps) * np.eye(nm)
+        G[:, nx + nm:] = (j / substeps) * np.eye(nm)
+        return G
+
+    Q = np.zeros((nz, nz))
+    for j in range(substeps):
+        Gj, Gj1 = ground(j), ground(j + 1)
+        A = Minv @ (-L @ Gj - K @ U - C @ V)  # equilibrium at the substep's start
+        Vv = (1.0 - gamma / beta) * V + (1.0 - 0.5 * gamma / beta) * h * A
+        Av = -V / (beta * h) - (0.5 / beta - 1.0) * A
+        Du = Khat_inv @ (-L @ Gj1 - M @ Av - C @ Vv - K @ U)
+        Q += -0.5 * (Gj + Gj1).T @ L.T @ Du  # the trapezoidal input work
+        U = U + Du
+        V = Vv + gamma / (beta * h) * Du
+    X = np.vstack([U, V])
+    egx, egg = _split(Q, nx, nm)
+    return X[:, :nx], X[:, nx:nx + nm], X[:, nx + nm:], egx, egg

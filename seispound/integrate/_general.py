@@ -55,7 +55,8 @@ from ._elements import (_add_to_band, _dot, _scatter, assemble_band, kinetic_ene
 from ._events import LAND_TOL, _event_in_step
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
 from ._linear import _dense_solve, _factor_band, _solve_range
-from ._material import ST_E, ST_ZETA, material_commit, material_energy, material_trial
+from ..storey.codes import B_ALPHA, B_FY, B_K
+from ._material import ST_E, ST_PLASTIC, ST_ZETA, material_commit, material_energy, material_trial
 from ._outputs import (
     E_CONTACT,
     E_DAMPING,
@@ -293,16 +294,20 @@ def _deformation(ne_dof, ne_coef, ne_size, q, u, du, v, c, gk, row):
 
 
 @njit(cache=True, fastmath=True)
-def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs):
+def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs, cst):
     """Every building's state after one analysis step with every gap open, and the step's input work [J].
 
     ff = (on, start, off_x, off_g, off_e, phi, G0, G1, Egx, Egg): the maps of ``transition.py``,
     [u1; v1; a1] = Phi x0 + G0 g0 + G1 g1 per building (x0 = [u; v] on its DOFs), the input work
     g^T Egx x0 + g^T Egg g with g = [g0; g1] the ground accelerations of the motion rows at the
-    step's start and end.  xs: scratch (2 n + 2 nm,).  (fastmath: sums may be reordered, and so
-    vectorised; round-off only.)
+    step's start and end; each bilinear storey's constant term cst[j] [N] (storey j of ff's st_elem)
+    adds its columns Gc and its input work Egc.  xs: scratch (2 n + 2 nm,).  (fastmath: sums may be
+    reordered, and so vectorised; round-off only.)
     """
     start, off_x, off_g, off_e, phi, G0, G1, egx, egg = ff[1], ff[2], ff[3], ff[4], ff[5], ff[6], ff[7], ff[8], ff[9]
+    st_start, gc, egc = ff[11], ff[12], ff[13]
+    o_c = 0
+    o_e = 0
     nm = g0.size
     gs = xs[xs.size - 2 * nm:]
     for m in range(nm):
@@ -338,6 +343,20 @@ def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs):
             for k in range(nx):
                 s += egx[row + k] * xs[k]
             de += gs[m] * s
+        for j in range(st_start[c], st_start[c + 1]):  # the bilinear storeys' constant terms
+            cj = cst[j]
+            jj = j - st_start[c]
+            if cj != 0.0:
+                base = o_c + jj * 3 * nb
+                for r in range(nb):
+                    u1[a + r] += gc[base + r] * cj
+                    v1[a + r] += gc[base + nb + r] * cj
+                    a1[a + r] += gc[base + nx + r] * cj
+                for m in range(2 * nm):
+                    de += gs[m] * egc[o_e + jj * 2 * nm + m] * cj
+        ns_c = st_start[c + 1] - st_start[c]
+        o_c += 3 * nb * ns_c
+        o_e += 2 * nm * ns_c
     for i in range(2 * nm):
         for j in range(2 * nm):
             de += gs[i] * egg[i, j] * gs[j]
@@ -372,27 +391,49 @@ def _screen(ne_gap, active, d0, r0, d1, r1, h, landed, target, land_too):
 
 
 @njit(cache=True)
-def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1, gk, state, gaps, umax):
-    """The analysis step ending at t_end in free flight (``_free_flight_trial``), accepted if no gap touches in it.
+def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1, gk, state, gaps, mat, umax):
+    """The analysis step ending at t_end in free flight (``_free_flight_trial``), accepted if no gap
+    touches and no bilinear storey leaves its elastic range in it.
 
     el = (ne_dof, ne_coef, ne_size, ne_gap); state = (u, v, a, u1, v1, a1, xs, zero); gaps = (d0, r0,
-    d1, r1, land_too).  Returns (accepted, input work [J], work of the linear elements and dampers
-    [J]); the latter from the balance, input = kinetic + that work, as nothing else acts (module
-    docstring of ``transition.py``).  Not accepted, nothing but the trial arrays changed.
+    d1, r1, land_too); mat = (ne_code, ne_par, st_c, st_t, F, fmax, cst).  Returns (accepted, input
+    work [J], work of the linear elements and dampers [J], work on the storeys [J]); the storeys'
+    exactly (an elastic storey's force is linear in its deformation), the linear elements' from the
+    balance, input = kinetic + the two, as nothing else acts (``transition.py``).  Not accepted,
+    nothing but the trial arrays changed.
     """
     ne_dof, ne_coef, ne_size, ne_gap = el
     u, v, a, u1, v1, a1, xs, zero = state
     d0, r0, d1, r1, land_too = gaps
+    ne_code, ne_par, st_c, st_t, F, fmax, cst = mat
+    st_elem = ff[10]
+    for j in range(st_elem.size):  # F = k delta - c: c = (1 - alpha) k delta_p, fixed while elastic
+        q = st_elem[j]
+        cst[j] = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * st_c[q, ST_PLASTIC]
     _ground_all(ag, t_end, dt, g_1)
-    de = _free_flight_trial(ff, u, v, g_t, g_1, u1, v1, a1, xs)
+    de = _free_flight_trial(ff, u, v, g_t, g_1, u1, v1, a1, xs, cst)
     if moving:
         _gap_ground_all(ne_ground, t_end, dt, gk, GU1)
     for q in range(ne_gap.size):
         if ne_gap[q]:
             d1[q], r1[q] = _deformation(ne_dof, ne_coef, ne_size, q, u1, zero, v1, 0.0, gk, GU1)
-    g_ev = _screen(ne_gap, active, d0, r0, d1, r1, dt, False, -1, land_too)[1]
-    if g_ev >= 0:
-        return False, 0.0, 0.0
+    if _screen(ne_gap, active, d0, r0, d1, r1, dt, False, -1, land_too)[1] >= 0:
+        return False, 0.0, 0.0, 0.0
+    dwh = 0.0
+    for j in range(st_elem.size):  # each storey within its elastic range over the whole step?
+        q = st_elem[j]
+        k = ne_par[q, B_K]
+        hi = st_c[q, ST_PLASTIC] + ne_par[q, B_FY] / k
+        lo = st_c[q, ST_PLASTIC] - ne_par[q, B_FY] / k
+        ds0, rs0 = _deformation(ne_dof, ne_coef, ne_size, q, u, zero, v, 0.0, gk, GU0)
+        ds1, rs1 = _deformation(ne_dof, ne_coef, ne_size, q, u1, zero, v1, 0.0, gk, GU1)
+        tol = 1e-12 * (hi - lo)
+        if (_event_in_step(ds0 - hi, rs0, ds1 - hi, rs1, dt, True, tol) <= 1.0
+                or _event_in_step(lo - ds0, -rs0, lo - ds1, -rs1, dt, True, tol) <= 1.0):
+            return False, 0.0, 0.0, 0.0
+        d1[q] = ds1
+        r1[q] = rs1
+        dwh += 0.5 * k * (ds1 * ds1 - ds0 * ds0) - cst[j] * (ds1 - ds0)
     ms_dof, ms_coef, ms_val = lin[0], lin[1], lin[2]
     dke = kinetic_energy(ms_dof, ms_coef, ms_val, v1) - kinetic_energy(ms_dof, ms_coef, ms_val, v)
     for i in range(u.size):
@@ -404,11 +445,17 @@ def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1
         if ne_gap[q]:
             d0[q] = d1[q]
             r0[q] = r1[q]
+    for j in range(st_elem.size):  # the storeys' state at the step's end (elastic: delta_p kept)
+        q = st_elem[j]
+        d0[q] = d1[q]  # (the output's recoverable energy reads the storeys' deformations here)
+        F[q] = material_trial(ne_code[q], ne_par, st_c, st_t, q, d1[q], r1[q])[0]
+        material_commit(st_c, st_t, q)
+        fmax[q] = max(fmax[q], abs(F[q]))
     for r in range(g_t.size):
         g_t[r] = g_1[r]
     if moving:
         _gap_ground_accept(gk)
-    return True, de, de - dke
+    return True, de, de - dke - dwh, dwh
 
 
 @njit(cache=True)
@@ -440,10 +487,11 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     tangent : a group of active elements that holds a storey iterates on the banded tangent
     (``_newton_tangent``, half bandwidth pT with the storeys); False: every group on the dense
     condensed system (``_newton``), the off switch the tests compare against.
-    ff : (on, start, off_x, off_g, off_e, phi, G0, G1, Egx, Egg): while no element is active (no storey with
-    history, every gap open) an analysis step is one map per building (``transition.py``: exact, or
-    the same Newmark substeps composed), screened for gap events; on False, or when the screen finds
-    an event, the step is taken on the physical path.
+    ff : (on, start, off_x, off_g, off_e, phi, G0, G1, Egx, Egg, st_elem, st_start, Gc, Egc): while every
+    gap is open (and every storey, if any, is bilinear: ``on`` says so) an analysis step is one map
+    per building (``transition.py``: exact, or the same Newmark substeps composed), screened for gap
+    events and for storeys leaving their elastic range; on False, or when the screen finds an event,
+    the step is taken on the physical path.
     """
     # arguments: alive for the whole call, so borrowed (``_borrow``: no reference counting in the loop)
     ms_dof, ms_coef, ms_val, ms_a0 = borrow(ms_dof), borrow(ms_coef), borrow(ms_val), borrow(ms_a0)
@@ -457,7 +505,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     imp_gap, imp_t0, imp_v0, imp_vout = borrow(imp_gap), borrow(imp_t0), borrow(imp_v0), borrow(imp_vout)
     imp_fmax, imp_dur, imp_zeta, imp_e = borrow(imp_fmax), borrow(imp_dur), borrow(imp_zeta), borrow(imp_e)
     ff = (ff[0], borrow(ff[1]), borrow(ff[2]), borrow(ff[3]), borrow(ff[4]), borrow(ff[5]), borrow(ff[6]),
-          borrow(ff[7]), borrow(ff[8]), borrow(ff[9]))
+          borrow(ff[7]), borrow(ff[8]), borrow(ff[9]), borrow(ff[10]), borrow(ff[11]), borrow(ff[12]), borrow(ff[13]))
     n = u_init.size
     nn = ne_size.size
     nm = ag.shape[0]
@@ -532,12 +580,16 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     v1 = np.empty(n)
     a1 = np.empty(n)
     xs = np.empty(2 * n + 2 * nm)
+    cst = np.empty(max(ff[10].size, 1))
+    n_storeys = 0
+    for q in range(nn):
+        n_storeys += 0 if ne_gap[q] else 1
     # the work arrays: owned by this tuple (kept alive to the end), used through borrowed aliases
     owners = (L_lev, have_lev, h_lev, L_h, LM, u, v, a, Vv, Av, R0, Du, work, flin, flin1, W_lev, W_scr, Wok_lev,
               Wok_scr, act, comp_off, Gm, Sm, ym, Fm, dl, rl, resv, kt, Aband, T, zt, xt, Wt, gpos, st_c, st_t, F,
               F1, F_old, h_old, active, zeta, hsub, age, cur_imp, d0, r0, d1, r1, toggles, land_too, gk, g_t, g_1,
-              zero, u1, v1, a1, xs)
-    u1, v1, a1, xs = borrow(u1), borrow(v1), borrow(a1), borrow(xs)
+              zero, u1, v1, a1, xs, cst)
+    u1, v1, a1, xs, cst = borrow(u1), borrow(v1), borrow(a1), borrow(xs), borrow(cst)
     L_lev, have_lev, h_lev, L_h, LM = borrow(L_lev), borrow(have_lev), borrow(h_lev), borrow(L_h), borrow(LM)
     u, v, a, Vv, Av, R0, Du = borrow(u), borrow(v), borrow(a), borrow(Vv), borrow(Av), borrow(R0), borrow(Du)
     work, flin, flin1, W_lev, W_scr = borrow(work), borrow(flin), borrow(flin1), borrow(W_lev), borrow(W_scr)
@@ -599,16 +651,18 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     step = 0
     while step < nsteps:
         t_end = (step + 1) * dt
-        if ff[0] and m_act == 0:
+        if ff[0] and m_act == n_storeys:  # every gap open (the storeys are always active)
             # ---- FREE FLIGHT: the whole analysis step by each building's linear map, if no gap event is in it
-            ok, de, dw = _free_flight(ff, t_end, dt, ag, ne_ground, moving, (ne_dof, ne_coef, ne_size, ne_gap), active,
-                                      lin, g_t, g_1, gk, (u, v, a, u1, v1, a1, xs, zero), (d0, r0, d1, r1, land_too),
-                                      umax)
+            ok, de, dw, dwh = _free_flight(ff, t_end, dt, ag, ne_ground, moving, (ne_dof, ne_coef, ne_size, ne_gap),
+                                           active, lin, g_t, g_1, gk, (u, v, a, u1, v1, a1, xs, zero),
+                                           (d0, r0, d1, r1, land_too), (ne_code, ne_par, st_c, st_t, F, fmax, cst),
+                                           umax)
             if ok:
                 t = t_end
                 flin_stale = True
                 e_in += de
                 w_lin += dw
+                w_hys += dwh
                 stats[S_FREE_FLIGHT] += 1
                 stats[S_STEPS] += 1
                 stats[S_DOF_STEPS] += n

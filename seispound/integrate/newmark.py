@@ -440,8 +440,10 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     lev_free = int(round(math.log2(substeps))) if substeps else 0
     ff = _free_flight_maps(system, tab, hyst, ag.shape[0], dt, nm, scheme, 2 ** lev_free) if free_flight else None
     i0 = np.zeros(1, np.int64)
-    ff_args = ((True, ff.start, ff.off_x, ff.off_g, ff.off_e, ff.phi, ff.g0, ff.g1, ff.egx, ff.egg) if ff is not None
-               else (False, i0, i0, i0, i0, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 0))))
+    ff_args = ((True, ff.start, ff.off_x, ff.off_g, ff.off_e, ff.phi, ff.g0, ff.g1, ff.egx, ff.egg, ff.st_elem,
+                ff.st_start, ff.gc, ff.egc) if ff is not None
+               else (False, i0, i0, i0, i0, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 0)),
+                     np.zeros(0, np.int64), i0, np.zeros(0), np.zeros(0)))
 
     def run(cap):
         out = dict(out_u=np.zeros((nt, n)), out_v=np.zeros((nt, n)), out_a=np.zeros((nt, n)),
@@ -484,13 +486,16 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
 def _free_flight_maps(system, tab, hyst, nm_rows, dt, nm, scheme, substeps):
     """The general driver's free-flight maps (``transition.Transition``), or None where they do not apply.
 
-    They apply when no element has state but the gaps (no storey with history), every building is a
-    contiguous run of at most ``transition.MAX_BLOCK_DOFS`` DOFs, and, for the Newmark scheme, the
-    rule is average acceleration (whose trapezoidal energy sums the free-flight balance reproduces).
+    They apply when the elements with state are gaps and bilinear storeys (piecewise linear: free
+    flight while every storey is elastic), every building is a contiguous run of at most
+    ``transition.MAX_BLOCK_DOFS`` DOFs, and, for the Newmark scheme, the rule is average acceleration
+    (whose trapezoidal energy sums the free-flight balance reproduces).
     """
+    from ..storey.codes import BILINEAR
     from .transition import transition
 
-    if hyst.size or (scheme == "newmark" and (nm.beta, nm.gamma) != (0.25, 0.5)):
+    storey_codes = tab["ne_code"][~tab["ne_gap"]]
+    if np.any(storey_codes != BILINEAR) or (scheme == "newmark" and (nm.beta, nm.gamma) != (0.25, 0.5)):
         return None
     dof_motion = np.asarray(system.dof_motion, np.int64)
     # kept per content: a run's no-pounding twin, the tolerance's check and a study's runs share the row's
@@ -498,6 +503,8 @@ def _free_flight_maps(system, tab, hyst, nm_rows, dt, nm, scheme, substeps):
     h = hashlib.blake2b(repr((nm_rows, float(dt), scheme, nm.beta, nm.gamma, substeps)).encode())
     for k in ("ms_dof", "ms_coef", "ms_val", "ms_a0", "le_dof", "le_coef", "le_k", "le_c", "dof_load"):
         h.update(np.ascontiguousarray(tab[k]).tobytes())
+    for k in ("ne_dof", "ne_coef", "ne_par"):  # the storeys (not the gaps: a run and its twin share the maps)
+        h.update(np.ascontiguousarray(tab[k][~tab["ne_gap"]]).tobytes())
     h.update(dof_motion.tobytes())
     key = h.digest()
     if key not in _TRANSITIONS:

@@ -34,6 +34,13 @@ Two schemes give these maps:
   driver's physical path takes exactly these steps, so the two agree to
   round-off: the off switch compares them.
 
+Bilinear storeys (kinematic hardening) inside their elastic range are linear too:
+F = k delta - (1 - alpha) k delta_p, the plastic deformation delta_p fixed while the
+storey stays elastic (``_material.material_trial``).  Their stiffness k joins K and
+each storey's constant term is one more input, a load b_q c_q held over the step,
+with its own columns Gc (and Egc in the input work); the driver screens each
+storey's deformation against its elastic range as it screens the gaps.
+
 Either way the damping work of a step follows from the balance, input =
 kinetic + linear strain + damping (nothing else acts in free flight): exact
 for the exact scheme, and equal to the trapezoidal sums for average
@@ -77,6 +84,11 @@ class Transition:
     g0, g1 : (sum 3 n_c nm,) float  [s^2, s, -]  ... + G0 g0 + G1 g1 (g in m/s^2)
     egx : (sum 4 n_c nm,) float  [kg m/s, kg]  input work's bilinear part
     egg : (2 nm, 2 nm) float [kg s^2]  its part quadratic in the ground accelerations (all buildings)
+    st_elem : (ns,) int64  the element (row of the element tables) of each bilinear storey, by building
+    st_start : (nc + 1,) int64  building c's storeys are st_elem[st_start[c]:st_start[c+1]]
+    gc : (sum 3 n_c ns_c,) float [m/N, m/(N s), m/(N s^2)]  per storey (rows) its column of the end
+        state for a unit constant term c_q [N] (storey-major: one contiguous row per storey)
+    egc : (sum 2 nm ns_c,) float [s]  per storey its input work per unit c_q and ground acceleration
     """
 
     start: np.ndarray
@@ -88,10 +100,14 @@ class Transition:
     g1: np.ndarray
     egx: np.ndarray
     egg: np.ndarray
+    st_elem: np.ndarray
+    st_start: np.ndarray
+    gc: np.ndarray
+    egc: np.ndarray
 
 
 def blocks_of(tab: dict, n: int) -> np.ndarray | None:
-    """First DOF of each building (connected DOFs under masses and linear elements), (nc + 1,) int64.
+    """First DOF of each building (connected DOFs under masses, linear elements and storeys), (nc + 1,) int64.
 
     None if a building is not a contiguous run of DOFs or holds more than MAX_BLOCK_DOFS.
     """
@@ -103,7 +119,7 @@ def blocks_of(tab: dict, n: int) -> np.ndarray | None:
             i = parent[i]
         return i
 
-    for dof in (tab["ms_dof"], tab["le_dof"]):
+    for dof in (tab["ms_dof"], tab["le_dof"], tab["ne_dof"][~tab["ne_gap"]]):
         for row in dof:
             used = [int(d) for d in row if d >= 0]
             for d in used[1:]:
@@ -141,30 +157,45 @@ def transition(tab: dict, n: int, dof_motion: np.ndarray, nm: int, dt: float, sc
                beta: float = 0.25, gamma: float = 0.5, substeps: int = 1) -> Transition | None:
     """The per-building maps of one analysis step ``dt`` [s] (module docstring), or None where not valid.
 
-    ``tab``: ``SystemArrays.element_tables()`` of a row with no element of state other
-    than gaps; ``dof_motion`` (n,) the motion row of each DOF; ``scheme`` "exact" or
-    "newmark" (``beta``, ``gamma``, ``substeps`` Newmark steps per analysis step).
+    ``tab``: ``SystemArrays.element_tables()`` of a row whose elements with state are gaps and
+    bilinear storeys (the caller checks); ``dof_motion`` (n,) the motion row of each DOF;
+    ``scheme`` "exact" or "newmark" (``beta``, ``gamma``, ``substeps`` Newmark steps per analysis
+    step).
     """
+    from ..storey.codes import B_K
+
     start = blocks_of(tab, n)
     if start is None:
         return None
     M, C, K = _matrices(tab, n)
     L = np.zeros((n, nm))
     L[np.arange(n), dof_motion] = tab["dof_load"]
-    phi, g0, g1, egx = [], [], [], []
+    storeys = np.flatnonzero(~tab["ne_gap"])
+    R = np.zeros((n, storeys.size))  # each storey's b_q: its constant term's load direction
+    for j, q in enumerate(storeys):
+        used = tab["ne_dof"][q] >= 0
+        b = np.zeros(n)
+        b[tab["ne_dof"][q][used]] = tab["ne_coef"][q][used]
+        K += tab["ne_par"][q, B_K] * np.outer(b, b)  # the elastic stiffness
+        R[:, j] = b
+    phi, g0, g1, egx, gc, egc, st_elem, st_start = [], [], [], [], [], [], [], [0]
     egg = np.zeros((2 * nm, 2 * nm))
     for a, b in zip(start[:-1], start[1:]):
         s = slice(a, b)
-        Mb, Cb, Kb, Lb = M[s, s], C[s, s], K[s, s], L[s]
-        P, G0, G1, Egx, Egg = (_exact_maps if scheme == "exact" else _newmark_maps)(
-            Mb, Cb, Kb, Lb, dt, beta, gamma, substeps)
-        # the accelerations from equilibrium at the step's end: a1 = -M^-1 ([K C] x1 + L g1)
+        mine = np.flatnonzero(np.any(R[s] != 0.0, axis=0))
+        Mb, Cb, Kb, Lb, Rb = M[s, s], C[s, s], K[s, s], L[s], R[s][:, mine]
+        P, G0, G1, Gc, Egx, Egg, Egc = (_exact_maps if scheme == "exact" else _newmark_maps)(
+            Mb, Cb, Kb, Lb, Rb, dt, beta, gamma, substeps)
+        # the accelerations from equilibrium at the step's end: a1 = M^-1 (-[K C] x1 - L g1 + R c)
         KC = np.linalg.solve(Mb, np.hstack([Kb, Cb]))
-        ML = np.linalg.solve(Mb, Lb)
-        P, G0, G1 = np.vstack([P, -KC @ P]), np.vstack([G0, -KC @ G0]), np.vstack([G1, -KC @ G1 - ML])
-        for lst, x in zip((phi, g0, g1, egx), (P, G0, G1, Egx)):
+        P, G0 = np.vstack([P, -KC @ P]), np.vstack([G0, -KC @ G0])
+        G1 = np.vstack([G1, -KC @ G1 - np.linalg.solve(Mb, Lb)])
+        Gc = np.vstack([Gc, -KC @ Gc + np.linalg.solve(Mb, Rb)])
+        for lst, x in zip((phi, g0, g1, egx, gc, egc), (P, G0, G1, Egx, Gc.T, Egc.T)):
             lst.append(np.ascontiguousarray(x).ravel())
         egg += Egg
+        st_elem.extend(storeys[mine])
+        st_start.append(len(st_elem))
     sizes = np.diff(start)
 
     def offsets(size):
@@ -172,31 +203,41 @@ def transition(tab: dict, n: int, dof_motion: np.ndarray, nm: int, dt: float, sc
 
     return Transition(start=start, off_x=offsets(6 * sizes * sizes), off_g=offsets(3 * sizes * nm),
                       off_e=offsets(4 * sizes * nm), phi=np.concatenate(phi), g0=np.concatenate(g0),
-                      g1=np.concatenate(g1), egx=np.concatenate(egx), egg=egg)
+                      g1=np.concatenate(g1), egx=np.concatenate(egx), egg=egg,
+                      st_elem=np.asarray(st_elem, np.int64), st_start=np.asarray(st_start, np.int64),
+                      gc=np.concatenate(gc), egc=np.concatenate(egc))
 
 
 def _split(Q, nx, nm):
-    """(Egx, Egg) of a quadratic form z^T Q z in z = [x (nx); g0 (nm); g1 (nm)] with no x-x part."""
+    """(Egx, Egg, Egc) of a quadratic form z^T Q z in z = [x (nx); g0 (nm); g1 (nm); c] whose only
+    terms are g's with x, with g and with c (the input work: the ground's power)."""
     Qs = 0.5 * (Q + Q.T)
-    return 2.0 * Qs[nx:, :nx], Qs[nx:, nx:]
+    g = slice(nx, nx + 2 * nm)
+    return 2.0 * Qs[g, :nx], Qs[g, g], 2.0 * Qs[g, nx + 2 * nm:]
 
 
-def _exact_maps(M, C, K, L, h, beta, gamma, substeps):
-    """Phi, G0, G1, Egx, Egg of the exact step (Van Loan 1978)."""
+def _exact_maps(M, C, K, L, R, h, beta, gamma, substeps):
+    """Phi, G0, G1, Gc, Egx, Egg, Egc of the exact step (Van Loan 1978).
+
+    R (nb, ns): constant loads R c held over the step (bilinear storeys' constant terms).
+    """
     nb, nm = L.shape
+    ns = R.shape[1]
     nx = 2 * nb
     Minv = np.linalg.inv(M)
-    # w = [x; g; c], c the ground acceleration's slope: w' = F w
-    nw = nx + 2 * nm
+    # w = [x; g; g'; c]: the ground acceleration, its slope and the constant terms
+    ig, islope, ic = nx, nx + nm, nx + 2 * nm
+    nw = ic + ns
     F = np.zeros((nw, nw))
     F[:nb, nb:nx] = np.eye(nb)
     F[nb:nx, :nb] = -Minv @ K
     F[nb:nx, nb:nx] = -Minv @ C
-    F[nb:nx, nx:nx + nm] = -Minv @ L
-    F[nx:nx + nm, nx + nm:] = np.eye(nm)
+    F[nb:nx, ig:islope] = -Minv @ L
+    F[nb:nx, ic:] = Minv @ R
+    F[ig:islope, islope:ic] = np.eye(nm)
     # the input power -g^T L^T v = w^T N w
     N = np.zeros((nw, nw))
-    N[nx:nx + nm, nb:nx] = -L.T
+    N[ig:islope, nb:nx] = -L.T
     N = 0.5 * (N + N.T)
     big = np.zeros((2 * nw, 2 * nw))
     big[:nw, :nw] = -F.T
@@ -205,46 +246,48 @@ def _exact_maps(M, C, K, L, h, beta, gamma, substeps):
     E = expm(big * h)
     E22, E12 = E[nw:, nw:], E[:nw, nw:]
     Qw = E22.T @ E12  # int_0^h e^(F^T s) N e^(F s) ds
-    # w0 = T z, z = [x0; g0; g1]: c = (g1 - g0) / h
-    T = np.zeros((nw, nw))
-    T[:nx + nm, :nx + nm] = np.eye(nx + nm)
-    T[nx + nm:, nx:nx + nm] = -np.eye(nm) / h
-    T[nx + nm:, nx + nm:] = np.eye(nm) / h
+    # w0 = T z, z = [x0; g0; g1; c]: the slope is (g1 - g0) / h
+    T = np.eye(nw)
+    T[islope:ic, ig:islope] = -np.eye(nm) / h
+    T[islope:ic, islope:ic] = np.eye(nm) / h
     X = E22[:nx] @ T
-    egx, egg = _split(T.T @ Qw @ T, nx, nm)
-    return X[:, :nx], X[:, nx:nx + nm], X[:, nx + nm:], egx, egg
+    egx, egg, egc = _split(T.T @ Qw @ T, nx, nm)
+    return X[:, :nx], X[:, ig:islope], X[:, islope:ic], X[:, ic:], egx, egg, egc
 
 
-def _newmark_maps(M, C, K, L, h_dt, beta, gamma, substeps):
-    """Phi, G0, G1, Egx, Egg of ``substeps`` Newmark steps (the general driver's ``_predictor``)."""
+def _newmark_maps(M, C, K, L, R, h_dt, beta, gamma, substeps):
+    """Phi, G0, G1, Gc, Egx, Egg, Egc of ``substeps`` Newmark steps (the general driver's ``_predictor``)."""
     nb, nm = L.shape
+    ns = R.shape[1]
     nx = 2 * nb
-    nz = nx + 2 * nm
+    nz = nx + 2 * nm + ns
     h = h_dt / substeps
     Minv = np.linalg.inv(M)
     Khat_inv = np.linalg.inv(K + gamma / (beta * h) * C + M / (beta * h * h))
-    # every quantity as a linear map of z = [u0; v0; g0; g1]
+    # every quantity as a linear map of z = [u0; v0; g0; g1; c]
     U = np.zeros((nb, nz))
     V = np.zeros((nb, nz))
     U[:, :nb] = np.eye(nb)
     V[:, nb:nx] = np.eye(nb)
+    Rc = np.zeros((nb, nz))
+    Rc[:, nx + 2 * nm:] = R
 
     def ground(j):  # the ground accelerations at substep j, interpolated within the analysis step
         G = np.zeros((nm, nz))
         G[:, nx:nx + nm] = (1.0 - j / substeps) * np.eye(nm)
-        G[:, nx + nm:] = (j / substeps) * np.eye(nm)
+        G[:, nx + nm:nx + 2 * nm] = (j / substeps) * np.eye(nm)
         return G
 
     Q = np.zeros((nz, nz))
     for j in range(substeps):
         Gj, Gj1 = ground(j), ground(j + 1)
-        A = Minv @ (-L @ Gj - K @ U - C @ V)  # equilibrium at the substep's start
+        A = Minv @ (-L @ Gj + Rc - K @ U - C @ V)  # equilibrium at the substep's start
         Vv = (1.0 - gamma / beta) * V + (1.0 - 0.5 * gamma / beta) * h * A
         Av = -V / (beta * h) - (0.5 / beta - 1.0) * A
-        Du = Khat_inv @ (-L @ Gj1 - M @ Av - C @ Vv - K @ U)
+        Du = Khat_inv @ (-L @ Gj1 + Rc - M @ Av - C @ Vv - K @ U)
         Q += -0.5 * (Gj + Gj1).T @ L.T @ Du  # the trapezoidal input work
         U = U + Du
         V = Vv + gamma / (beta * h) * Du
     X = np.vstack([U, V])
-    egx, egg = _split(Q, nx, nm)
-    return X[:, :nx], X[:, nx:nx + nm], X[:, nx + nm:], egx, egg
+    egx, egg, egc = _split(Q, nx, nm)
+    return X[:, :nx], X[:, nx:nx + nm], X[:, nx + nm:nx + 2 * nm], X[:, nx + 2 * nm:], egx, egg, egc

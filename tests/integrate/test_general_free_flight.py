@@ -1,0 +1,117 @@
+"""The general driver's free flight (``integrate/transition.py``) against its off switch.
+
+With the Newmark scheme the free-flight map of an analysis step composes the very Newmark substeps the
+physical path takes, so the two runs integrate the same discrete equations: they must agree to round-off,
+through every impact and every yield (a step the screen let through although a gap closed or a storey
+yielded in it would be stepped as linear and show here).  With the exact scheme the steps without events
+are exact; what that buys is measured in ``tests/verification`` and ``benchmarks.physics_accuracy``.
+"""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from seispound import load_model
+from seispound.floor import RodFloor
+from seispound.foundation import Footing, Foundation, Soil
+from seispound.integrate import integrate
+from seispound.model.analysis import Newmark
+from seispound.simulation import newmark_substeps, run_inputs
+from seispound.storey import StoreyLaw
+
+ROW = Path(__file__).resolve().parents[2] / "models" / "row_of_three.toml"
+
+
+def _yielding(m):
+    for b in m.buildings:
+        b.storey_law = StoreyLaw(kind="bilinear", yield_drift=0.01, post_yield_ratio=0.05)
+
+
+def _foundation(m):
+    m.buildings[1].foundation = Foundation(mass=4e5, rotary_inertia=2e7, floor_rotary_inertia=3e6,
+                                           soil=Soil(200.0, 1900.0, 0.3), footing=Footing(width=15.0, length=15.0))
+
+
+def _storey_pounding(m):
+    m.buildings[2].storey_heights = np.full(m.buildings[2].n_floors, 4.0)
+
+
+def _rods(m):
+    m.buildings[0].floor_model = RodFloor(segments=2, length=20.0, youngs_modulus=3e10, area=2.0, axial_damping=0.02)
+
+
+EDITS = {"yielding storeys": [_yielding], "foundation": [_foundation], "floor-to-storey": [_storey_pounding],
+         "yielding on a foundation, floor-to-storey": [_yielding, _foundation, _storey_pounding],
+         "yielding with rod floors": [_yielding, _rods]}
+
+
+def _case(name, seconds=12.0):
+    m = load_model(ROW)
+    m.analysis.duration = seconds
+    for edit in EDITS[name]:
+        edit(m)
+    for b in m.buildings:
+        b.validate()
+    m.__dict__.pop("_assembled", None)
+    system, motions = run_inputs(m)
+    return m, system, motions.rows
+
+
+def _rel(a, b):
+    return float(np.abs(a - b).max() / max(np.abs(b).max(), 1e-300))
+
+
+@pytest.mark.parametrize("name", list(EDITS))
+def test_newmark_free_flight_equals_the_physical_path(name):
+    m, system, rows = _case(name)
+    an, nm = m.analysis, Newmark(contact_substeps=32)
+    kw = dict(substeps=newmark_substeps(m, system), scheme="newmark")
+    on = integrate(system, rows, an.dt, an.nsteps, nm, **kw)
+    off = integrate(system, rows, an.dt, an.nsteps, nm, free_flight=False, **kw)
+    assert on.driver == off.driver == "general"
+    assert on.stats["free_flight_steps"] > an.nsteps // 4 and off.stats["free_flight_steps"] == 0
+    assert on.impacts["gap"].size > 10
+    errs = {k: _rel(getattr(on, k), getattr(off, k))
+            for k in ("displacement", "velocity", "acceleration", "energy", "force")}
+    if on.storey_force is not None and on.storey_force.size:
+        errs["storey force"] = _rel(on.storey_force, off.storey_force)
+    print(f"MEASURED {name}: free flight {on.stats['free_flight_steps']} of {an.nsteps} steps, "
+          f"{on.impacts['gap'].size} impacts; on vs off", {k: f"{v:.1e}" for k, v in errs.items()})
+    # measured at most 6e-12 (accelerations, through ~100 impacts and the yields); round-off, ~5x
+    assert max(errs.values()) <= 3e-11, errs
+    # peaks: free flight reads them at the analysis steps, the physical path at every Newmark substep
+    peak = on.peak_displacement / off.peak_displacement - 1
+    print(f"MEASURED {name}: peak displacements, free flight against every substep: {peak.min():.1e} .. {peak.max():.1e}")
+    assert peak.max() <= 1e-12 and peak.min() >= -5e-4  # measured down to -2.2e-4
+    np.testing.assert_array_equal(on.impacts["gap"], off.impacts["gap"])
+    np.testing.assert_allclose(on.impacts["t0"], off.impacts["t0"], rtol=0, atol=1e-9)
+
+
+def test_exact_free_flight_keeps_the_energy_balance():
+    """Exact free flight with yielding storeys on a foundation: the balance closes to round-off (the storeys'
+    work is exact while they are elastic, the dampers' follows from the balance, the physical path's from
+    the trapezoidal rule)."""
+    m, system, rows = _case("yielding on a foundation, floor-to-storey")
+    an = m.analysis
+    raw = integrate(system, rows, an.dt, an.nsteps, Newmark(contact_substeps=32),
+                    substeps=newmark_substeps(m, system), scheme="exact")
+    assert raw.scheme == "exact" and raw.stats["free_flight_steps"] > an.nsteps // 4
+    e = raw.energy
+    balance = np.abs(e[:, 0] - e[:, 1:].sum(axis=1)).max() / np.abs(e[:, 0]).max()
+    print(f"MEASURED exact free flight, yielding on a foundation: energy balance {balance:.1e}, "
+          f"hysteretic {e[-1, 5]:.4g} J")
+    assert balance <= 1e-12  # measured 2.5e-14 on the 40 s row: round-off
+    assert e[-1, 5] > 0.0
+
+
+def test_bouc_wen_storeys_take_no_free_flight():
+    """A smooth hysteresis has no elastic range: every step stays on the physical path."""
+    m, system, rows = _case("yielding storeys", seconds=2.0)
+    for b in m.buildings:
+        b.storey_law = StoreyLaw(kind="bouc-wen", yield_drift=0.01, post_yield_ratio=0.05, n=2.0)
+        b.validate()
+    m.__dict__.pop("_assembled", None)
+    system, motions = run_inputs(m)
+    raw = integrate(system, motions.rows, m.analysis.dt, m.analysis.nsteps, Newmark(contact_substeps=32))
+    assert raw.stats["free_flight_steps"] == 0 and raw.scheme == "newmark"

@@ -294,14 +294,14 @@ def _deformation(ne_dof, ne_coef, ne_size, q, u, du, v, c, gk, row):
 
 
 @njit(cache=True, fastmath=True)
-def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs, cst):
+def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs, ys, cst):
     """Every building's state after one analysis step with every gap open, and the step's input work [J].
 
     ff = (on, start, off_x, off_g, off_e, phi, G0, G1, Egx, Egg): the maps of ``transition.py``,
     [u1; v1; a1] = Phi x0 + G0 g0 + G1 g1 per building (x0 = [u; v] on its DOFs), the input work
     g^T Egx x0 + g^T Egg g with g = [g0; g1] the ground accelerations of the motion rows at the
     step's start and end; each bilinear storey's constant term cst[j] [N] (storey j of ff's st_elem)
-    adds its columns Gc and its input work Egc.  xs: scratch (2 n + 2 nm,).  (fastmath: sums may be
+    adds its columns Gc and its input work Egc.  xs, ys: scratch (2 n + 2 nm,), (3 n,).  (fastmath: sums may be
     reordered, and so vectorised; round-off only.)
     """
     start, off_x, off_g, off_e, phi, G0, G1, egx, egg = ff[1], ff[2], ff[3], ff[4], ff[5], ff[6], ff[7], ff[8], ff[9]
@@ -321,12 +321,11 @@ def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs, cst):
         for k in range(nb):  # x0 = [u; v] of the building, contiguous
             xs[k] = u[a + k]
             xs[nb + k] = v[a + k]
+        y = ys[:3 * nb]
+        np.dot(phi[off_x[c]:off_x[c + 1]].reshape((3 * nb, nx)), xs[:nx], y)  # (BLAS: the rows are short)
         for r in range(3 * nb):
-            base = off_x[c] + r * nx
-            s = 0.0
-            for k in range(nx):
-                s += phi[base + k] * xs[k]
             bg = off_g[c] + r * nm
+            s = y[r]
             for m in range(nm):
                 s += G0[bg + m] * gs[m] + G1[bg + m] * gs[nm + m]
             if r < nb:
@@ -395,7 +394,7 @@ def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1
     """The analysis step ending at t_end in free flight (``_free_flight_trial``), accepted if no gap
     touches and no bilinear storey leaves its elastic range in it.
 
-    el = (ne_dof, ne_coef, ne_size, ne_gap); state = (u, v, a, u1, v1, a1, xs, zero); gaps = (d0, r0,
+    el = (ne_dof, ne_coef, ne_size, ne_gap); state = (u, v, a, u1, v1, a1, xs, ys, zero); gaps = (d0, r0,
     d1, r1, land_too); mat = (ne_code, ne_par, st_c, st_t, F, fmax, cst).  Returns (accepted, input
     work [J], work of the linear elements and dampers [J], work on the storeys [J]); the storeys'
     exactly (an elastic storey's force is linear in its deformation), the linear elements' from the
@@ -403,7 +402,7 @@ def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1
     nothing but the trial arrays changed.
     """
     ne_dof, ne_coef, ne_size, ne_gap = el
-    u, v, a, u1, v1, a1, xs, zero = state
+    u, v, a, u1, v1, a1, xs, ys, zero = state
     d0, r0, d1, r1, land_too = gaps
     ne_code, ne_par, st_c, st_t, F, fmax, cst = mat
     st_elem = ff[10]
@@ -411,7 +410,7 @@ def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1
         q = st_elem[j]
         cst[j] = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * st_c[q, ST_PLASTIC]
     _ground_all(ag, t_end, dt, g_1)
-    de = _free_flight_trial(ff, u, v, g_t, g_1, u1, v1, a1, xs, cst)
+    de = _free_flight_trial(ff, u, v, g_t, g_1, u1, v1, a1, xs, ys, cst)
     if moving:
         _gap_ground_all(ne_ground, t_end, dt, gk, GU1)
     for q in range(ne_gap.size):
@@ -580,6 +579,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     v1 = np.empty(n)
     a1 = np.empty(n)
     xs = np.empty(2 * n + 2 * nm)
+    ys = np.empty(3 * n)
     cst = np.empty(max(ff[10].size, 1))
     n_storeys = 0
     for q in range(nn):
@@ -588,8 +588,8 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     owners = (L_lev, have_lev, h_lev, L_h, LM, u, v, a, Vv, Av, R0, Du, work, flin, flin1, W_lev, W_scr, Wok_lev,
               Wok_scr, act, comp_off, Gm, Sm, ym, Fm, dl, rl, resv, kt, Aband, T, zt, xt, Wt, gpos, st_c, st_t, F,
               F1, F_old, h_old, active, zeta, hsub, age, cur_imp, d0, r0, d1, r1, toggles, land_too, gk, g_t, g_1,
-              zero, u1, v1, a1, xs, cst)
-    u1, v1, a1, xs, cst = borrow(u1), borrow(v1), borrow(a1), borrow(xs), borrow(cst)
+              zero, u1, v1, a1, xs, ys, cst)
+    u1, v1, a1, xs, ys, cst = borrow(u1), borrow(v1), borrow(a1), borrow(xs), borrow(ys), borrow(cst)
     L_lev, have_lev, h_lev, L_h, LM = borrow(L_lev), borrow(have_lev), borrow(h_lev), borrow(L_h), borrow(LM)
     u, v, a, Vv, Av, R0, Du = borrow(u), borrow(v), borrow(a), borrow(Vv), borrow(Av), borrow(R0), borrow(Du)
     work, flin, flin1, W_lev, W_scr = borrow(work), borrow(flin), borrow(flin1), borrow(W_lev), borrow(W_scr)
@@ -654,7 +654,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
         if ff[0] and m_act == n_storeys:  # every gap open (the storeys are always active)
             # ---- FREE FLIGHT: the whole analysis step by each building's linear map, if no gap event is in it
             ok, de, dw, dwh = _free_flight(ff, t_end, dt, ag, ne_ground, moving, (ne_dof, ne_coef, ne_size, ne_gap),
-                                           active, lin, g_t, g_1, gk, (u, v, a, u1, v1, a1, xs, zero),
+                                           active, lin, g_t, g_1, gk, (u, v, a, u1, v1, a1, xs, ys, zero),
                                            (d0, r0, d1, r1, land_too), (ne_code, ne_par, st_c, st_t, F, fmax, cst),
                                            umax)
             if ok:

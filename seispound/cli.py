@@ -312,8 +312,15 @@ def summary(ds, out=None) -> str:
                  + (f" ({ds.attrs['scheme']} scheme)" if "scheme" in ds.attrs else ""))
     if ds.attrs.get("driver") == "general":  # the scheme changed: say why and how it was kept accurate
         n = int(ds.attrs.get("newmark_substeps", 1))
-        lines.append("  Newmark steps throughout (yielding storeys, a foundation or floor-to-storey gaps need the "
-                     f"general driver), {n} substep{'s' if n > 1 else ''} per analysis step")
+        sub = f"{n} substep{'s' if n > 1 else ''} per analysis step"
+        free = int(json.loads(ds.attrs.get("integrator_stats", "{}")).get("free_flight_steps", 0))
+        if free:
+            lines.append(f"  general driver (yielding storeys, a foundation or floor-to-storey gaps): {free} of "
+                         f"{ds.sizes['time'] - 1} analysis steps in free flight ({ds.attrs.get('scheme')} steps of "
+                         f"each building), Newmark steps around impacts and yields, {sub}")
+        else:
+            lines.append("  Newmark steps throughout (yielding storeys, a foundation or floor-to-storey gaps need the "
+                         f"general driver), {sub}")
     if ni and "contact_substeps" in ds.attrs:
         n, est = int(ds.attrs["contact_substeps"]), float(ds.attrs.get("contact_error_estimate", float("nan")))
         if ds.attrs.get("contact_substeps_from") == "tolerance":

@@ -39,8 +39,14 @@ def test_the_run_says_it_steps_by_newmark_with_substeps(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         ds = sp.simulate(_model(tmp_path, 0.005), twin=False)
-    assert ds.attrs["driver"] == "general" and ds.attrs["scheme"] == "newmark" and ds.attrs["newmark_substeps"] == 2
-    assert "Newmark steps throughout" in summary(ds) and "2 substeps per analysis step" in summary(ds)
+    assert ds.attrs["driver"] == "general" and ds.attrs["scheme"] == "exact" and ds.attrs["newmark_substeps"] == 2
+    text = summary(ds)
+    assert "analysis steps in free flight (exact steps" in text and "2 substeps per analysis step" in text
+    m = _model(tmp_path, 0.005, case="Bouc-Wen storeys", name="bw.toml")  # no elastic range: no free flight
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ds = sp.simulate(m, twin=False)
+    assert ds.attrs["scheme"] == "newmark" and "Newmark steps throughout" in summary(ds)
 
 
 def test_substeps_bring_floor_accelerations_near_the_converged_run(tmp_path):

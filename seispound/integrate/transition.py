@@ -162,11 +162,26 @@ def transition(tab: dict, n: int, dof_motion: np.ndarray, nm: int, dt: float, sc
     ``scheme`` "exact" or "newmark" (``beta``, ``gamma``, ``substeps`` Newmark steps per analysis
     step).
     """
-    from ..storey.codes import B_K
-
+    global _BLAS
     start = blocks_of(tab, n)
     if start is None:
         return None
+    # one BLAS thread: these matrices are small, and a second thread that spins beside the driver (or
+    # competes with other work on a busy machine) cost up to 100 times the computation (measured)
+    if _BLAS is None:
+        from threadpoolctl import ThreadpoolController
+
+        _BLAS = ThreadpoolController()  # (finding the libraries is the slow part: once)
+    with _BLAS.limit(limits=1, user_api="blas"):
+        return _transition(tab, n, start, dof_motion, nm, dt, scheme, beta, gamma, substeps)
+
+
+_BLAS = None  # threadpoolctl's view of the loaded BLAS libraries
+
+
+def _transition(tab, n, start, dof_motion, nm, dt, scheme, beta, gamma, substeps):
+    from ..storey.codes import B_K
+
     M, C, K = _matrices(tab, n)
     L = np.zeros((n, nm))
     L[np.arange(n), dof_motion] = tab["dof_load"]

@@ -112,11 +112,13 @@ def _acceleration(LM, pm, lin, dof_load, dof_motion, g, u, v, ne_dof, ne_coef, F
 
 
 @njit(cache=True)
-def _predictor(h, beta, gamma, Lf, p, lin, dof_load, dof_motion, g1, u, v, a, Vv, Av, R0, Du, work):
+def _predictor(h, beta, gamma, Lf, p, lin, dof_load, dof_motion, g1, u, v, a, Vv, Av, R0, Du, work, storeys):
     """The step with every element force of state frozen at zero: Du = A^-1 R0 (R0 kept).
 
     R0 = p1 - M Av - C Vv - K u, with Newmark's u1 = u + Du, v1 = Vv + gamma/(beta h) Du,
-    a1 = Av + Du/(beta h^2).
+    a1 = Av + Du/(beta h^2).  storeys = (on, ne_dof, ne_coef, ne_gap, F): with ``on``, A holds the
+    storeys at their elastic stiffness (the elastic predictor) and R0 their committed forces F,
+    R0 -= sum b_q F_q: the incremental form of a linear element.
     """
     ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin
     for i in range(u.size):
@@ -127,6 +129,11 @@ def _predictor(h, beta, gamma, Lf, p, lin, dof_load, dof_motion, g1, u, v, a, Vv
     _load(dof_load, dof_motion, g1, Du)
     for i in range(u.size):
         R0[i] = Du[i] - work[i] - R0[i]
+    if storeys[0]:
+        ne_dof, ne_coef, ne_gap, F = storeys[1], storeys[2], storeys[3], storeys[4]
+        for q in range(ne_gap.size):
+            if not ne_gap[q]:
+                _scatter(ne_dof, ne_coef, q, -F[q], R0)
     _solve_range(Lf, p, R0, Du, 0, u.size)
 
 
@@ -279,6 +286,76 @@ def _newton_tangent(lo, hi, act, el, dl, rl, Fm, cc, st_c, st_t, fac, work, scal
                     x[i] -= yg[j] * Wt[j, i]
         for k in range(lo, hi):
             Fm[k] += -resv[k] + kt[k] * _dot(ne_dof, ne_coef, act[k], x)
+
+
+@njit(cache=True)
+def _solve_groups(grp, elg, stp, frc, fac, band, wrk, opts):
+    """Newton on the forces of the active elements, group by group; Du less their share (``general_kernel``).
+
+    grp = (m_act, act, n_comp, comp_off): the active elements in groups that share no building;
+    elg = (ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi); stp = (h, cm, cc, u, Du,
+    Vv, R0, gk): the step and its linear trial; frc = (F, F1, F_old, h_old, age, Fm, dl, rl, st_c,
+    st_t); fac = (Lf, p, W, W_ok, Gm): A's factor and the columns A^-1 b_q under it; band = (Aband,
+    T, pT, h_A, lin, tangent): the banded tangent's storage (``_newton_tangent``); wrk = (resv, kt,
+    Sm, ym, twork); opts = (rtol, max_iter).  Returns (converged, iterations, h_A).
+    """
+    m_act, act, n_comp, comp_off = grp
+    ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi = elg
+    h, cm, cc, u, Du, Vv, R0, gk = stp
+    F, F1, F_old, h_old, age, Fm, dl, rl, st_c, st_t = frc
+    Lf, p, W, W_ok, Gm = fac
+    Aband, T, pT, h_A, lin, tangent = band
+    resv, kt, Sm, ym, twork = wrk
+    rtol, max_iter = opts
+    zt = twork[0]
+    n = u.size
+    if m_act == 0:
+        return True, 0, h_A
+    scale = 0.0
+    for i in range(n):
+        scale = max(scale, abs(R0[i]))
+    it = 0
+    for c in range(n_comp):  # G is block diagonal over the groups
+        lo_c, hi_c = comp_off[c], comp_off[c + 1]
+        banded = False
+        dlo, dhi = n, 0
+        for k in range(lo_c, hi_c):
+            q = act[k]
+            banded = banded or (tangent and not ne_gap[q])
+            dlo, dhi = min(dlo, ne_lo[q]), max(dhi, ne_hi[q])
+            dl[k], rl[k] = _deformation(ne_dof, ne_coef, ne_size, q, u, Du, Vv, cc, gk, GU1)
+            Fm[k] = F[q]
+            if ne_gap[q] and age[q] >= 1:  # along the impact's last substep
+                Fm[k] += (F[q] - F_old[q]) * (h / h_old[q])
+        if banded:
+            if h != h_A:  # A's band at this step size, the tangent's starting point
+                ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin
+                assemble_band(cm, cc, 1.0, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, pT, Aband)
+                h_A = h
+            ok_c, it_c = _newton_tangent(lo_c, hi_c, act, (ne_dof, ne_coef, ne_code, ne_par, ne_gap), dl, rl, Fm,
+                                         cc, st_c, st_t, (Lf, p, Aband, T, pT, dlo, dhi), twork, scale, rtol,
+                                         max_iter)
+        else:
+            _columns(Lf, p, ne_dof, ne_coef, ne_lo, ne_hi, act[lo_c:hi_c], hi_c - lo_c, W, W_ok)
+            for k in range(lo_c, hi_c):
+                for r in range(lo_c, hi_c):
+                    Gm[k, r] = _dot(ne_dof, ne_coef, act[k], W[act[r]])
+            ok_c, it_c = _newton(lo_c, hi_c, act, Gm, dl, rl, Fm, cc, ne_code, ne_par, st_c, st_t, scale, rtol,
+                                 max_iter, resv, kt, Sm, ym)
+        it = max(it, it_c)
+        if not ok_c:
+            return False, it, h_A
+        # the step with the group's forces: Du -= A^-1 B F (zt holds it after _newton_tangent)
+        for k in range(lo_c, hi_c):
+            q = act[k]
+            F1[q] = Fm[k]
+            if not banded and Fm[k] != 0.0:
+                for i in range(ne_lo[q], ne_hi[q]):
+                    Du[i] -= Fm[k] * W[q, i]
+        if banded:
+            for i in range(dlo, dhi):
+                Du[i] -= zt[i]
+    return True, it, h_A
 
 
 @njit(cache=True, inline="always")
@@ -601,8 +678,9 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     hsub, age, cur_imp, d0, r0 = borrow(hsub), borrow(age), borrow(cur_imp), borrow(d0), borrow(r0)
     d1, r1, toggles, land_too, gk = borrow(d1), borrow(r1), borrow(toggles), borrow(land_too), borrow(gk)
     g_t, g_1, zero = borrow(g_t), borrow(g_1), borrow(zero)
-    el = (ne_dof, ne_coef, ne_code, ne_par, ne_gap)
+    elg = (ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi)
     twork = (zt, xt, resv, kt, Wt, Sm, ym, gpos)
+    no_storeys = (False, ne_dof, ne_coef, ne_gap, F)
     for s in range(stats.size):
         stats[s] = 0
     n_imp = 0
@@ -724,58 +802,17 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
                 if moving:
                     _gap_ground_all(ne_ground, t + h, dt, gk, GU1)
                 # ---- PREDICTOR: every element force of state frozen at zero
-                _predictor(h, beta, gamma, Lf, p, lin, dof_load, dof_motion, g_1, u, v, a, Vv, Av, R0, Du, work)
+                _predictor(h, beta, gamma, Lf, p, lin, dof_load, dof_motion, g_1, u, v, a, Vv, Av, R0, Du, work,
+                           no_storeys)
                 stats[S_ITERATIONS] += 1
                 stats[S_DOF_STEPS] += n
                 # ---- ITERATIONS: Newton on the active elements' forces, condensed through A^-1
-                converged = True
-                if m_act > 0:
-                    scale = 0.0
-                    for i in range(n):
-                        scale = max(scale, abs(R0[i]))
-                    it = 0
-                    for c in range(n_comp):  # G is block diagonal over the groups
-                        lo_c, hi_c = comp_off[c], comp_off[c + 1]
-                        banded = False
-                        dlo, dhi = n, 0
-                        for k in range(lo_c, hi_c):
-                            q = act[k]
-                            banded = banded or (tangent and not ne_gap[q])
-                            dlo, dhi = min(dlo, ne_lo[q]), max(dhi, ne_hi[q])
-                            dl[k], rl[k] = _deformation(ne_dof, ne_coef, ne_size, q, u, Du, Vv, cc, gk, GU1)
-                            Fm[k] = F[q]
-                            if ne_gap[q] and age[q] >= 1:  # along the impact's last substep
-                                Fm[k] += (F[q] - F_old[q]) * (h / h_old[q])
-                        if banded:
-                            if h != h_A:  # A's band at this step size, the tangent's starting point
-                                assemble_band(cm, cc, 1.0, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k,
-                                              le_c, pT, Aband)
-                                h_A = h
-                            ok_c, it_c = _newton_tangent(lo_c, hi_c, act, el, dl, rl, Fm, cc, st_c, st_t,
-                                                         (Lf, p, Aband, T, pT, dlo, dhi), twork, scale, rtol, max_iter)
-                        else:
-                            _columns(Lf, p, ne_dof, ne_coef, ne_lo, ne_hi, act[lo_c:hi_c], hi_c - lo_c, W, W_ok)
-                            for k in range(lo_c, hi_c):
-                                for r in range(lo_c, hi_c):
-                                    Gm[k, r] = _dot(ne_dof, ne_coef, act[k], W[act[r]])
-                            ok_c, it_c = _newton(lo_c, hi_c, act, Gm, dl, rl, Fm, cc, ne_code, ne_par,
-                                                 st_c, st_t, scale, rtol, max_iter, resv, kt, Sm, ym)
-                        it = max(it, it_c)
-                        converged = converged and ok_c
-                        if not ok_c:
-                            break
-                        # the step with the group's forces: Du -= A^-1 B F (zt holds it after _newton_tangent)
-                        for k in range(lo_c, hi_c):
-                            q = act[k]
-                            F1[q] = Fm[k]
-                            if not banded and Fm[k] != 0.0:
-                                for i in range(ne_lo[q], ne_hi[q]):
-                                    Du[i] -= Fm[k] * W[q, i]
-                        if banded:
-                            for i in range(dlo, dhi):
-                                Du[i] -= zt[i]
-                    stats[S_ITERATIONS] += it
-                    stats[S_MAX_ITER] = max(stats[S_MAX_ITER], it)
+                converged, it, h_A = _solve_groups(
+                    (m_act, act, n_comp, comp_off), elg, (h, cm, cc, u, Du, Vv, R0, gk),
+                    (F, F1, F_old, h_old, age, Fm, dl, rl, st_c, st_t), (Lf, p, W, W_ok, Gm),
+                    (Aband, T, pT, h_A, lin, tangent), (resv, kt, Sm, ym, twork), (rtol, max_iter))
+                stats[S_ITERATIONS] += it
+                stats[S_MAX_ITER] = max(stats[S_MAX_ITER], it)
                 if not converged:
                     stats[S_REJECTED] += 1
                     h *= 0.25

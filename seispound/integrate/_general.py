@@ -88,6 +88,21 @@ def _factor(cm, cc, lin, p, L):
 
 
 @njit(cache=True)
+def _factor_elastic(cm, cc, lin, el, pT, L):
+    """Assemble and factor A_el = A + sum over the storeys of k b b^T (their elastic stiffness) into L.
+
+    el = (ne_dof, ne_coef, ne_par, ne_gap); pT: the band with the storeys.  False if not positive definite.
+    """
+    ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin
+    ne_dof, ne_coef, ne_par, ne_gap = el
+    assemble_band(cm, cc, 1.0, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, pT, L)
+    for q in range(ne_gap.size):
+        if not ne_gap[q]:
+            _add_to_band(ne_dof, ne_coef, q, ne_par[q, B_K], L)
+    return _factor_band(L, pT, 0, L.shape[0])
+
+
+@njit(cache=True)
 def _load(dof_load, dof_motion, g, out):
     """The effective earthquake load -M iota a_g [N] for the ground accelerations g (per motion row)."""
     for i in range(out.size):
@@ -537,7 +552,7 @@ def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1
 @njit(cache=True)
 def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, dof_load, dof_motion, dof_infl,
                    ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi, state0, ag, moving, ne_ground,
-                   u_init, v_init, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store, tangent, pT, lev_free, ff,
+                   u_init, v_init, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store, tangent, pT, lev_free, flags,
                    out_u, out_v, out_a, out_f, out_e, umax, fmax,
                    imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e, stats):
     """Integrate; fill the outputs; return (status, n_impacts, t_reached).
@@ -563,7 +578,10 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     tangent : a group of active elements that holds a storey iterates on the banded tangent
     (``_newton_tangent``, half bandwidth pT with the storeys); False: every group on the dense
     condensed system (``_newton``), the off switch the tests compare against.
-    ff : (on, start, off_x, off_g, off_e, phi, G0, G1, Egx, Egg, st_elem, st_start, Gc, Egc): while every
+    flags = (ff, el_pred).  el_pred: every storey is bilinear, and a physical step first tries them at their
+    elastic stiffness in the linear part (Newton on the closed gaps alone), kept if every storey ends
+    the step elastic.
+    ff = (on, start, off_x, off_g, off_e, phi, G0, G1, Egx, Egg, st_elem, st_start, Gc, Egc): while every
     gap is open (and every storey, if any, is bilinear: ``on`` says so) an analysis step is one map
     per building (``transition.py``: exact, or the same Newmark substeps composed), screened for gap
     events and for storeys leaving their elastic range; on False, or when the screen finds an event,
@@ -580,6 +598,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     out_e, umax, fmax, stats = borrow(out_e), borrow(umax), borrow(fmax), borrow(stats)
     imp_gap, imp_t0, imp_v0, imp_vout = borrow(imp_gap), borrow(imp_t0), borrow(imp_v0), borrow(imp_vout)
     imp_fmax, imp_dur, imp_zeta, imp_e = borrow(imp_fmax), borrow(imp_dur), borrow(imp_zeta), borrow(imp_e)
+    ff, el_pred = flags
     ff = (ff[0], borrow(ff[1]), borrow(ff[2]), borrow(ff[3]), borrow(ff[4]), borrow(ff[5]), borrow(ff[6]),
           borrow(ff[7]), borrow(ff[8]), borrow(ff[9]), borrow(ff[10]), borrow(ff[11]), borrow(ff[12]), borrow(ff[13]))
     n = u_init.size
@@ -655,6 +674,20 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     u1 = np.empty(n)  # a free-flight step's trial state
     v1 = np.empty(n)
     a1 = np.empty(n)
+    # the elastic predictor's factors A_el(h) (every storey bilinear: ``el_pred``) and their gap columns
+    n_el = N_LEVELS if el_pred else 1
+    Le_lev = np.empty((n_el, n, pT + 2))
+    have_le = np.zeros(n_el, np.bool_)
+    Le_h = np.empty((n, pT + 2))
+    h_le = -1.0
+    We_lev = np.zeros((nw, n))
+    We_scr = np.zeros((nw, n))
+    Weok_lev = np.zeros(nw, np.bool_)
+    Weok_scr = np.zeros(nw, np.bool_)
+    lv_We = -1
+    h_We = -1.0
+    actg = np.empty(nw, np.int64)  # the closed gaps alone, in groups
+    compg_off = np.empty(nw + 1, np.int64)
     xs = np.empty(2 * n + 2 * nm)
     ys = np.empty(3 * n)
     cst = np.empty(max(ff[10].size, 1))
@@ -665,8 +698,11 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     owners = (L_lev, have_lev, h_lev, L_h, LM, u, v, a, Vv, Av, R0, Du, work, flin, flin1, W_lev, W_scr, Wok_lev,
               Wok_scr, act, comp_off, Gm, Sm, ym, Fm, dl, rl, resv, kt, Aband, T, zt, xt, Wt, gpos, st_c, st_t, F,
               F1, F_old, h_old, active, zeta, hsub, age, cur_imp, d0, r0, d1, r1, toggles, land_too, gk, g_t, g_1,
-              zero, u1, v1, a1, xs, ys, cst)
+              zero, u1, v1, a1, xs, ys, cst, Le_lev, have_le, Le_h, We_lev, We_scr, Weok_lev, Weok_scr, actg,
+              compg_off)
     u1, v1, a1, xs, ys, cst = borrow(u1), borrow(v1), borrow(a1), borrow(xs), borrow(ys), borrow(cst)
+    Le_lev, have_le, Le_h, We_lev, We_scr = borrow(Le_lev), borrow(have_le), borrow(Le_h), borrow(We_lev), borrow(We_scr)
+    Weok_lev, Weok_scr, actg, compg_off = borrow(Weok_lev), borrow(Weok_scr), borrow(actg), borrow(compg_off)
     L_lev, have_lev, h_lev, L_h, LM = borrow(L_lev), borrow(have_lev), borrow(h_lev), borrow(L_h), borrow(LM)
     u, v, a, Vv, Av, R0, Du = borrow(u), borrow(v), borrow(a), borrow(Vv), borrow(Av), borrow(R0), borrow(Du)
     work, flin, flin1, W_lev, W_scr = borrow(work), borrow(flin), borrow(flin1), borrow(W_lev), borrow(W_scr)
@@ -801,18 +837,66 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
                 _ground_all(ag, t + h, dt, g_1)
                 if moving:
                     _gap_ground_all(ne_ground, t + h, dt, gk, GU1)
-                # ---- PREDICTOR: every element force of state frozen at zero
-                _predictor(h, beta, gamma, Lf, p, lin, dof_load, dof_motion, g_1, u, v, a, Vv, Av, R0, Du, work,
-                           no_storeys)
-                stats[S_ITERATIONS] += 1
-                stats[S_DOF_STEPS] += n
-                # ---- ITERATIONS: Newton on the active elements' forces, condensed through A^-1
-                converged, it, h_A = _solve_groups(
-                    (m_act, act, n_comp, comp_off), elg, (h, cm, cc, u, Du, Vv, R0, gk),
-                    (F, F1, F_old, h_old, age, Fm, dl, rl, st_c, st_t), (Lf, p, W, W_ok, Gm),
-                    (Aband, T, pT, h_A, lin, tangent), (resv, kt, Sm, ym, twork), (rtol, max_iter))
-                stats[S_ITERATIONS] += it
-                stats[S_MAX_ITER] = max(stats[S_MAX_ITER], it)
+                frc = (F, F1, F_old, h_old, age, Fm, dl, rl, st_c, st_t)
+                elastic = False
+                if el_pred:
+                    # ---- ELASTIC PREDICTOR: every (bilinear) storey at its elastic stiffness in the linear
+                    # part, Newton on the closed gaps alone; kept if every storey ends the step elastic
+                    if lv >= 0:
+                        if not have_le[lv]:
+                            if not _factor_elastic(cm, cc, lin, (ne_dof, ne_coef, ne_par, ne_gap), pT, Le_lev[lv]):
+                                return NEWTON_FAILED, n_imp, t
+                            have_le[lv] = True
+                            stats[S_FACTORIZATIONS] += 1
+                        Le = Le_lev[lv]
+                        if lv != lv_We:
+                            Weok_lev[:] = False
+                            lv_We = lv
+                        We, We_ok = We_lev, Weok_lev
+                    else:
+                        if h != h_le:
+                            if not _factor_elastic(cm, cc, lin, (ne_dof, ne_coef, ne_par, ne_gap), pT, Le_h):
+                                return NEWTON_FAILED, n_imp, t
+                            h_le = h
+                            stats[S_FACTORIZATIONS] += 1
+                        Le = Le_h
+                        if h != h_We:
+                            Weok_scr[:] = False
+                            h_We = h
+                        We, We_ok = We_scr, Weok_scr
+                    _predictor(h, beta, gamma, Le, pT, lin, dof_load, dof_motion, g_1, u, v, a, Vv, Av, R0, Du, work,
+                               (True, ne_dof, ne_coef, ne_gap, F))
+                    stats[S_ITERATIONS] += 1
+                    stats[S_DOF_STEPS] += n
+                    m_g = 0
+                    for k in range(m_act):
+                        if ne_gap[act[k]]:
+                            actg[m_g] = act[k]
+                            m_g += 1
+                    n_cg = _group_contacts(m_g, actg, ne_lo, ne_hi, compg_off)
+                    elastic, it, h_A = _solve_groups(
+                        (m_g, actg, n_cg, compg_off), elg, (h, cm, cc, u, Du, Vv, R0, gk), frc, (Le, pT, We, We_ok, Gm),
+                        (Aband, T, pT, h_A, lin, False), (resv, kt, Sm, ym, twork), (rtol, max_iter))
+                    stats[S_ITERATIONS] += it
+                    for q in range(nn):
+                        if elastic and not ne_gap[q]:
+                            ds, rs = _deformation(ne_dof, ne_coef, ne_size, q, u, Du, Vv, cc, gk, GU1)
+                            f, dfd, dfv = material_trial(ne_code[q], ne_par, st_c, st_t, q, ds, rs)
+                            elastic = dfd == ne_par[q, B_K]
+                            F1[q] = f
+                converged = True
+                if not elastic:
+                    # ---- PREDICTOR: every element force of state frozen at zero
+                    _predictor(h, beta, gamma, Lf, p, lin, dof_load, dof_motion, g_1, u, v, a, Vv, Av, R0, Du, work,
+                               no_storeys)
+                    stats[S_ITERATIONS] += 1
+                    stats[S_DOF_STEPS] += n
+                    # ---- ITERATIONS: Newton on the active elements' forces, condensed through A^-1
+                    converged, it, h_A = _solve_groups(
+                        (m_act, act, n_comp, comp_off), elg, (h, cm, cc, u, Du, Vv, R0, gk), frc, (Lf, p, W, W_ok, Gm),
+                        (Aband, T, pT, h_A, lin, tangent), (resv, kt, Sm, ym, twork), (rtol, max_iter))
+                    stats[S_ITERATIONS] += it
+                    stats[S_MAX_ITER] = max(stats[S_MAX_ITER], it)
                 if not converged:
                     stats[S_REJECTED] += 1
                     h *= 0.25

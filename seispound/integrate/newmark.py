@@ -170,7 +170,8 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
               impact_capacity: int | None = None, store_history: bool = True,
               free_flight: bool = True, multirate: bool = True, wait_share: float = WAIT_SHARE,
               scheme: str = "exact", driver: str = "auto", tangent: bool = True,
-              substeps: int | None = None, contact_step: float = math.inf) -> RawResult:
+              substeps: int | None = None, contact_step: float = math.inf,
+              elastic_predictor: bool = True) -> RawResult:
     """Integrate a row of buildings under one (or one per DOF group) ground motion.
 
     Parameters
@@ -231,6 +232,12 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         Longest contact substep [s] (default inf: 1 / ``contact_substeps`` of
         the impact duration alone); ``simulation.contact_step`` sets it from
         the row's fastest mode, which rod floors make kHz.
+    elastic_predictor : bool
+        General driver, every storey bilinear: each physical step first tries the storeys at their
+        elastic stiffness inside the linear part, with Newton on the closed gaps alone, and keeps it
+        when every storey ends the step elastic (default); False: the storeys always in the Newton
+        iteration.  The two agree to the Newton tolerance ``rtol`` (amplified by pounding's
+        sensitivity to where an impact lands), the off switch the tests compare against.
     tangent : bool
         General driver: the Newton iteration of a group that holds storeys
         with history runs on the banded tangent stiffness (default;
@@ -252,7 +259,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     if driver == "general" or (driver == "auto" and system.needs_general_driver):
         _check_scheme(scheme)
         return _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capacity, store_history,
-                                  tangent, substeps, contact_step, free_flight, scheme)
+                                  tangent, substeps, contact_step, free_flight, scheme, elastic_predictor)
     _check_scheme(scheme)
     if not 0.0 <= wait_share <= 1.0:
         raise ValueError(f"wait_share must lie in [0, 1], got {wait_share!r}")
@@ -409,7 +416,7 @@ def _element_ranges(tab, n):
 
 def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capacity, store_history,
                        tangent=True, substeps=None, contact_step=math.inf, free_flight=True,
-                       scheme="exact") -> RawResult:
+                       scheme="exact", elastic_predictor=True) -> RawResult:
     """``integrate`` on the general driver (``_general.py``): every law through the material protocol, Newmark
     steps, and the analysis steps with no element active in free flight (``transition.py``) where valid."""
     from . import _general as G
@@ -439,6 +446,10 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     p_tangent = max(int(tab["p"]), bandwidth(n, tab["ne_dof"][~ne_gap]))  # the band with the storeys in it
     lev_free = int(round(math.log2(substeps))) if substeps else 0
     ff = _free_flight_maps(system, tab, hyst, ag.shape[0], dt, nm, scheme, 2 ** lev_free) if free_flight else None
+    from ..storey.codes import BILINEAR
+
+    storeys = ~tab["ne_gap"]
+    el_pred = bool(elastic_predictor and storeys.any() and np.all(tab["ne_code"][storeys] == BILINEAR))
     i0 = np.zeros(1, np.int64)
     ff_args = ((True, ff.start, ff.off_x, ff.off_g, ff.off_e, ff.phi, ff.g0, ff.g1, ff.egx, ff.egg, ff.st_elem,
                 ff.st_start, ff.gc, ff.egc) if ff is not None
@@ -456,7 +467,8 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
             tab["ne_dof"], tab["ne_coef"], tab["ne_size"], tab["ne_code"], tab["ne_par"], ne_gap, ne_lo, ne_hi,
             np.zeros((nn, N_STATE)), ag, moving, ground, np.asarray(system.u0, float), np.asarray(system.v0, float),
             float(dt), int(nsteps), float(nm.beta), float(nm.gamma), (_substeps(nm), float(contact_step)),
-            float(nm.rtol), int(nm.max_iter), bool(store_history), bool(tangent), int(p_tangent), lev_free, ff_args,
+            float(nm.rtol), int(nm.max_iter), bool(store_history), bool(tangent), int(p_tangent), lev_free,
+            (ff_args, el_pred),
             **out),
             out)
 

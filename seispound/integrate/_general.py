@@ -413,11 +413,12 @@ def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs, ys, cst):
         for k in range(nb):  # x0 = [u; v] of the building, contiguous
             xs[k] = u[a + k]
             xs[nb + k] = v[a + k]
-        y = ys[:3 * nb]
-        np.dot(phi[off_x[c]:off_x[c + 1]].reshape((3 * nb, nx)), xs[:nx], y)  # (BLAS: the rows are short)
         for r in range(3 * nb):
+            base = off_x[c] + r * nx
+            s = 0.0
+            for k in range(nx):
+                s += phi[base + k] * xs[k]
             bg = off_g[c] + r * nm
-            s = y[r]
             for m in range(nm):
                 s += G0[bg + m] * gs[m] + G1[bg + m] * gs[nm + m]
             if r < nb:

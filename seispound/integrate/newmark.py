@@ -386,21 +386,9 @@ def _element_ranges(tab, n):
     Blocks are the connected components of the DOFs under the masses and linear elements
     (and the storeys with history); they are contiguous in the assembly's numbering.
     """
-    parent = np.arange(n)
+    from .transition import components
 
-    def find(i):
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
-        return i
-
-    tables = [tab["ms_dof"], tab["le_dof"], tab["ne_dof"][~tab["ne_gap"]]]
-    for dof in tables:
-        for row in dof:
-            used = [int(d) for d in row if d >= 0]
-            for d in used[1:]:
-                parent[find(d)] = find(used[0])
-    root = np.array([find(i) for i in range(n)])
+    root = components(tab, n)
     lo_of = np.full(n, n)
     hi_of = np.zeros(n, np.int64)
     np.minimum.at(lo_of, root, np.arange(n))
@@ -522,8 +510,8 @@ def _free_flight_maps(system, tab, hyst, nm_rows, dt, nm, scheme, substeps):
     if key not in _TRANSITIONS:
         if len(_TRANSITIONS) >= 32:
             _TRANSITIONS.pop(next(iter(_TRANSITIONS)))
-        _TRANSITIONS[key] = transition(tab, system.n_dof, dof_motion, nm_rows, dt, scheme, nm.beta, nm.gamma,
-                                       substeps)
+        _TRANSITIONS[key] = transition(tab, system.matrices(), dof_motion, nm_rows, dt, scheme, nm.beta,
+                                       nm.gamma, substeps)
     return _TRANSITIONS[key]
 
 

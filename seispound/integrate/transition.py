@@ -106,11 +106,9 @@ class Transition:
     egc: np.ndarray
 
 
-def blocks_of(tab: dict, n: int) -> np.ndarray | None:
-    """First DOF of each building (connected DOFs under masses, linear elements and storeys), (nc + 1,) int64.
-
-    None if a building is not a contiguous run of DOFs or holds more than MAX_BLOCK_DOFS.
-    """
+def components(tab: dict, n: int) -> np.ndarray:
+    """The building of each DOF: a root DOF per connected component under the masses, the linear
+    elements and the storeys with state (gaps link nothing), (n,) int64."""
     parent = np.arange(n)
 
     def find(i):
@@ -124,7 +122,15 @@ def blocks_of(tab: dict, n: int) -> np.ndarray | None:
             used = [int(d) for d in row if d >= 0]
             for d in used[1:]:
                 parent[find(d)] = find(used[0])
-    root = np.array([find(i) for i in range(n)])
+    return np.array([find(i) for i in range(n)], np.int64)
+
+
+def blocks_of(tab: dict, n: int) -> np.ndarray | None:
+    """First DOF of each building (:func:`components`), (nc + 1,) int64.
+
+    None if a building is not a contiguous run of DOFs or holds more than MAX_BLOCK_DOFS.
+    """
+    root = components(tab, n)
     start = [0] + [i for i in range(1, n) if root[i] != root[i - 1]] + [n]
     seen = set()
     for a, b in zip(start[:-1], start[1:]):
@@ -134,35 +140,19 @@ def blocks_of(tab: dict, n: int) -> np.ndarray | None:
     return np.asarray(start, np.int64)
 
 
-def _matrices(tab: dict, n: int):
-    """Dense M [kg], C [N s/m], K [N/m] of the linear part (masses and linear elements), (n, n)."""
-    M, C, K = np.zeros((n, n)), np.zeros((n, n)), np.zeros((n, n))
-
-    def add(A, dof, coef, c):
-        b = np.zeros(n)
-        used = dof >= 0
-        b[dof[used]] = coef[used]
-        A += c * np.outer(b, b)
-
-    for e in range(tab["ms_val"].size):
-        add(M, tab["ms_dof"][e], tab["ms_coef"][e], tab["ms_val"][e])
-        add(C, tab["ms_dof"][e], tab["ms_coef"][e], tab["ms_a0"][e] * tab["ms_val"][e])
-    for e in range(tab["le_k"].size):
-        add(K, tab["le_dof"][e], tab["le_coef"][e], tab["le_k"][e])
-        add(C, tab["le_dof"][e], tab["le_coef"][e], tab["le_c"][e])
-    return M, C, K
-
-
-def transition(tab: dict, n: int, dof_motion: np.ndarray, nm: int, dt: float, scheme: str,
+def transition(tab: dict, matrices: tuple, dof_motion: np.ndarray, nm: int, dt: float, scheme: str,
                beta: float = 0.25, gamma: float = 0.5, substeps: int = 1) -> Transition | None:
     """The per-building maps of one analysis step ``dt`` [s] (module docstring), or None where not valid.
 
     ``tab``: ``SystemArrays.element_tables()`` of a row whose elements with state are gaps and
-    bilinear storeys (the caller checks); ``dof_motion`` (n,) the motion row of each DOF;
+    bilinear storeys (the caller checks); ``matrices``: its dense (M, C, K), storeys at their
+    initial (elastic) stiffness (``SystemArrays.matrices``); ``dof_motion`` (n,) the motion row of
+    each DOF;
     ``scheme`` "exact" or "newmark" (``beta``, ``gamma``, ``substeps`` Newmark steps per analysis
     step).
     """
     global _BLAS
+    n = matrices[0].shape[0]
     start = blocks_of(tab, n)
     if start is None:
         return None
@@ -173,26 +163,22 @@ def transition(tab: dict, n: int, dof_motion: np.ndarray, nm: int, dt: float, sc
 
         _BLAS = ThreadpoolController()  # (finding the libraries is the slow part: once)
     with _BLAS.limit(limits=1, user_api="blas"):
-        return _transition(tab, n, start, dof_motion, nm, dt, scheme, beta, gamma, substeps)
+        return _transition(tab, matrices, start, dof_motion, nm, dt, scheme, beta, gamma, substeps)
 
 
 _BLAS = None  # threadpoolctl's view of the loaded BLAS libraries
 
 
-def _transition(tab, n, start, dof_motion, nm, dt, scheme, beta, gamma, substeps):
-    from ..storey.codes import B_K
-
-    M, C, K = _matrices(tab, n)
+def _transition(tab, matrices, start, dof_motion, nm, dt, scheme, beta, gamma, substeps):
+    M, C, K = (np.array(x, float) for x in matrices)
+    n = M.shape[0]
     L = np.zeros((n, nm))
     L[np.arange(n), dof_motion] = tab["dof_load"]
     storeys = np.flatnonzero(~tab["ne_gap"])
     R = np.zeros((n, storeys.size))  # each storey's b_q: its constant term's load direction
     for j, q in enumerate(storeys):
         used = tab["ne_dof"][q] >= 0
-        b = np.zeros(n)
-        b[tab["ne_dof"][q][used]] = tab["ne_coef"][q][used]
-        K += tab["ne_par"][q, B_K] * np.outer(b, b)  # the elastic stiffness
-        R[:, j] = b
+        R[tab["ne_dof"][q][used], j] = tab["ne_coef"][q][used]
     phi, g0, g1, egx, gc, egc, st_elem, st_start = [], [], [], [], [], [], [], [0]
     egg = np.zeros((2 * nm, 2 * nm))
     for a, b in zip(start[:-1], start[1:]):

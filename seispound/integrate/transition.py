@@ -36,7 +36,8 @@ Two schemes give these maps:
 
 Bilinear storeys (kinematic hardening) inside their elastic range are linear too:
 F = k delta - (1 - alpha) k delta_p, the plastic deformation delta_p fixed while the
-storey stays elastic (``_material.material_trial``).  Their stiffness k joins K and
+storey stays elastic (``_material.material_trial``).  Their stiffness k is in K
+(``SystemArrays.matrices``: storeys at their initial stiffness) and
 each storey's constant term is one more input, a load b_q c_q held over the step,
 with its own columns Gc (and Egc in the input work); the driver screens each
 storey's deformation against its elastic range as it screens the gaps.
@@ -47,8 +48,11 @@ for the exact scheme, and equal to the trapezoidal sums for average
 acceleration (beta = 1/4, gamma = 1/2: the inertia's trapezoidal work is the
 kinetic energy's change exactly).  Derived here; not read from a source.
 
-Cost per analysis step: (2 n_b)^2 multiply-adds per building b for the state,
-against a banded factor solve per Newmark substep on the physical path.
+Van Loan's block exponential holds e^(+|Re lambda| h) for the most damped mode;
+a building damped beyond e^-MAX_DECAY_EXPONENT per step gets no exact maps (its
+row is stepped physically).  Cost per analysis step: 6 n_b^2 multiply-adds per
+building b (its displacements, velocities and accelerations from x0), against a
+banded factor solve per Newmark substep on the physical path.
 """
 
 from __future__ import annotations

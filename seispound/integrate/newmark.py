@@ -433,11 +433,13 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     ne_lo, ne_hi = _element_ranges(tab, n)
     p_tangent = max(int(tab["p"]), bandwidth(n, tab["ne_dof"][~ne_gap]))  # the band with the storeys in it
     lev_free = int(round(math.log2(substeps))) if substeps else 0
-    ff = _free_flight_maps(system, tab, hyst, ag.shape[0], dt, nm, scheme, 2 ** lev_free) if free_flight else None
     from ..storey.codes import BILINEAR
 
-    storeys = ~tab["ne_gap"]
-    el_pred = bool(elastic_predictor and storeys.any() and np.all(tab["ne_code"][storeys] == BILINEAR))
+    storeys = ~ne_gap
+    bilinear = bool(np.all(tab["ne_code"][storeys] == BILINEAR))  # every storey piecewise linear (or none)
+    ff = (_free_flight_maps(system, tab, ag.shape[0], dt, nm, scheme, 2 ** lev_free)
+          if free_flight and bilinear else None)
+    el_pred = bool(elastic_predictor and storeys.any() and bilinear)
     i0 = np.zeros(1, np.int64)
     ff_args = ((True, ff.start, ff.off_x, ff.off_g, ff.off_e, ff.phi, ff.g0, ff.g1, ff.egx, ff.egg, ff.st_elem,
                 ff.st_start, ff.gc, ff.egc) if ff is not None
@@ -483,19 +485,17 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
                      scheme=scheme if ff is not None else "newmark")
 
 
-def _free_flight_maps(system, tab, hyst, nm_rows, dt, nm, scheme, substeps):
+def _free_flight_maps(system, tab, nm_rows, dt, nm, scheme, substeps):
     """The general driver's free-flight maps (``transition.Transition``), or None where they do not apply.
 
-    They apply when the elements with state are gaps and bilinear storeys (piecewise linear: free
-    flight while every storey is elastic), every building is a contiguous run of at most
-    ``transition.MAX_BLOCK_DOFS`` DOFs, and, for the Newmark scheme, the rule is average acceleration
-    (whose trapezoidal energy sums the free-flight balance reproduces).
+    The caller has checked that the elements with state are gaps and bilinear storeys (piecewise
+    linear: free flight while every storey is elastic).  They apply when every building is a
+    contiguous run of at most ``transition.MAX_BLOCK_DOFS`` DOFs and, for the Newmark scheme, the rule
+    is average acceleration (whose trapezoidal energy sums the free-flight balance reproduces).
     """
-    from ..storey.codes import BILINEAR
     from .transition import transition
 
-    storey_codes = tab["ne_code"][~tab["ne_gap"]]
-    if np.any(storey_codes != BILINEAR) or (scheme == "newmark" and (nm.beta, nm.gamma) != (0.25, 0.5)):
+    if scheme == "newmark" and (nm.beta, nm.gamma) != (0.25, 0.5):
         return None
     dof_motion = np.asarray(system.dof_motion, np.int64)
     # kept per content: a run's no-pounding twin, the tolerance's check and a study's runs share the row's

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from seispound._jit import njit
 
 from .codes import (E_CONSTANT, E_EXPONENTIAL, E_LINEAR, E_POWER, HC, HD, HERTZ, HERTZDAMP, LHC,  # noqa: F401
                     LVE, MAX_TABLE, MLVE, N_PAR, NIVE, NONE, P_E, P_EA, P_EB, P_EC, P_ED, P_EFORM, P_EXPONENT, P_K,

@@ -20,7 +20,7 @@ between two interpolated sides).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from seispound._jit import njit
 
 
 @njit(cache=True, inline="always")

@@ -10,7 +10,7 @@ free-flight blocks compute the same increments in modal form, by that rule
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from seispound._jit import njit
 
 
 @njit(cache=True, fastmath=True)

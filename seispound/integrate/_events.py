@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from seispound._jit import njit
 
 from ..contact.codes import NONE
 from ._contact import _gap_trial

@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from seispound._jit import njit
 
 # columns of the coefficient table (8, n): q1 = F_QQ q + F_QV v + G0_Q P0 + G1_Q P1, v1 likewise
 F_QQ, F_QV, F_VQ, F_VV, G0_Q, G0_V, G1_Q, G1_V = 0, 1, 2, 3, 4, 5, 6, 7

@@ -10,7 +10,7 @@ gap may close (handed to the physical path with its root estimate).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from seispound._jit import njit
 
 from ..contact._scalar import NONE
 from ._contact import _gap_deformation

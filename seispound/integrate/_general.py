@@ -46,7 +46,7 @@ kinetic + strain (linear + recoverable) + damping + contact + hysteretic.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from seispound._jit import njit
 
 from ._borrow import borrow, keep_alive
 from ._contact import _begin_impact, _contact_step, _end_impact, _group_contacts, _peak_through

@@ -85,7 +85,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from seispound._jit import njit
 
 from ..contact._scalar import NIVE, NONE, contact_force
 from ._borrow import borrow, keep_alive

@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from seispound._jit import njit
 
 # _UNSIGNED: loops over a DOF range lo..hi-1 run on np.uint64 subscripts.  numba
 # wraps negative subscripts around (x[-1] is the last entry), and it cannot drop

@@ -32,7 +32,7 @@ protocol; the fast driver calls the contact branch directly.
 
 from __future__ import annotations
 
-from numba import njit
+from seispound._jit import njit
 
 from ..contact._scalar import law_force, onset_state
 from ..contact.codes import P_EXPONENT, P_K, P_MEFF, P_TENSION

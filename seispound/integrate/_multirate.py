@@ -5,7 +5,7 @@ contact substeps; their trajectory inside the step, the runs of stepping buildin
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from seispound._jit import njit
 
 from ._contact import _gap_kinematics
 from ._newmark_step import _linear_trial

@@ -9,7 +9,7 @@ each force's work, which for average acceleration balances exactly.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from seispound._jit import njit
 
 from ._linear import _internal, _internal_range, _solve, _solve_range
 

@@ -140,7 +140,7 @@ def _exact_coefficients(basis, dt):
 
 
 # rough compile time of each driver on a first use (``python -m benchmarks.startup``): said before it starts
-COMPILE_SECONDS = {"fast": "about 40 s", "general": "about 45 s"}
+COMPILE_SECONDS = {"fast": "about 40 s", "general": "about 30 s"}
 _ANNOUNCED: set = set()
 
 
@@ -305,13 +305,14 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
             out_f=hist[3 * nt * n:nt * (3 * n + ng)].reshape(nt, ng), out_e=hist[nt * (3 * n + ng):].reshape(nt, 6),
             umax=np.empty(n), fmax=np.empty(ng), **_catalogue(cap))
         announce_compile(K.integrate_kernel, "fast")
+        f = _writable
         return (*K.integrate_kernel(
-            system.mass, system.dof_a0, system.dof_motion, system.el_i, system.el_j, system.el_k,
-            system.el_a1, int(system.bandwidth), system.u0, system.v0, gap_i, gap_j, gap_lo, gap_hi,
-            gap_size, gap_law, np.ascontiguousarray(gap_par), np.ascontiguousarray(ag), moving, ground, float(dt),
-            int(nsteps), float(nm.beta), float(nm.gamma), (_substeps(nm), float(contact_step)),
-            float(nm.rtol), int(nm.max_iter), bool(store_history), *md, exact, ex_co,
-            bool(multirate), float(wait_share), blk_dof, blk_el, **out), out)
+            *f(system.mass, system.dof_a0, system.dof_motion, system.el_i, system.el_j, system.el_k,
+               system.el_a1), int(system.bandwidth), *f(system.u0, system.v0, gap_i, gap_j, gap_lo, gap_hi,
+                                                        gap_size, gap_law, gap_par, ag), moving, *f(ground),
+            float(dt), int(nsteps), float(nm.beta), float(nm.gamma), (_substeps(nm), float(contact_step)),
+            float(nm.rtol), int(nm.max_iter), bool(store_history), md[0], *f(*md[1:-1]), md[-1], exact, *f(ex_co),
+            bool(multirate), float(wait_share), *f(blk_dof, blk_el), **out), out)
 
     n_imp, out = _run_growing(run, cap)
     out["out_e"][:, K.E_HYSTERETIC] = 0.0  # no storey with history on this path
@@ -333,6 +334,18 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     return RawResult(time=np.arange(nt) * dt, displacement=out["out_u"], velocity=out["out_v"],
                      acceleration=out["out_a"], force=force, energy=out["out_e"],
                      peak_displacement=out["umax"], peak_force=peak_force, impacts=imp, stats=stats)
+
+
+def _writable(*arrays):
+    """The kernel's inputs as writable C-contiguous arrays (a copy only of a read-only one).
+
+    A compiled kernel is specialised on each argument's type, and numba's types tell read-only
+    arrays from writable ones: the model's arrays are frozen, those made per run are not, and
+    arrays computed inside the kernel are writable.  One flavour for every input keeps one
+    specialisation of the kernel and of the functions it calls, which halves the compile on a
+    fresh install (``python -m benchmarks.startup``).
+    """
+    return [np.require(a, requirements=("C", "W")) for a in arrays]
 
 
 def _check_scheme(scheme):
@@ -451,11 +464,15 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
                    out_f=np.zeros((nt, nn)), out_e=np.zeros((nt, 6)), umax=np.zeros(n), fmax=np.zeros(nn),
                    **_catalogue(cap))
         announce_compile(G.general_kernel, "general")
+        f = _writable
         return (*G.general_kernel(
-            tab["ms_dof"], tab["ms_coef"], tab["ms_val"], tab["ms_a0"], tab["le_dof"], tab["le_coef"], tab["le_k"],
-            tab["le_c"], int(tab["p"]), tab["dof_load"], system.dof_motion.astype(np.int64), tab["dof_infl"],
-            tab["ne_dof"], tab["ne_coef"], tab["ne_size"], tab["ne_code"], tab["ne_par"], ne_gap, ne_lo, ne_hi,
-            np.zeros((nn, N_STATE)), ag, moving, ground, np.asarray(system.u0, float), np.asarray(system.v0, float),
+            *f(tab["ms_dof"], tab["ms_coef"], tab["ms_val"], tab["ms_a0"], tab["le_dof"], tab["le_coef"],
+               tab["le_k"], tab["le_c"]), int(tab["p"]), *f(tab["dof_load"], system.dof_motion.astype(np.int64),
+                                                            tab["dof_infl"], tab["ne_dof"], tab["ne_coef"],
+                                                            tab["ne_size"], tab["ne_code"], tab["ne_par"], ne_gap,
+                                                            ne_lo, ne_hi),
+            np.zeros((nn, N_STATE)), *f(ag), moving, *f(ground, np.asarray(system.u0, float),
+                                                        np.asarray(system.v0, float)),
             float(dt), int(nsteps), float(nm.beta), float(nm.gamma), (_substeps(nm), float(contact_step)),
             float(nm.rtol), int(nm.max_iter), bool(store_history), bool(tangent), int(p_tangent), lev_free,
             (ff_args, el_pred),

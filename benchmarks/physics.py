@@ -5,6 +5,7 @@ through the whole ``simulate(model)`` (its no-pounding twin included) as it is,
 then with one physics switched on at a time, then with all of them:
 
 * yielding storeys: every storey bilinear (yield drift 1 cm, 5 % hardening);
+* Bouc-Wen storeys: every storey Bouc-Wen (the same yield drift and hardening, n = 2);
 * a flexible foundation under Middle (cone impedances of a 15 m x 15 m footing
   on soil of 200 m/s);
 * rod floors in West (6 segments, concrete slab 20 m x 2 m^2, 2 % axial damping);
@@ -41,6 +42,10 @@ def cases(model):
         for b in m.buildings:
             b.storey_law = StoreyLaw(kind="bilinear", yield_drift=0.01, post_yield_ratio=0.05)
 
+    def bouc_wen(m):
+        for b in m.buildings:
+            b.storey_law = StoreyLaw(kind="bouc-wen", yield_drift=0.01, post_yield_ratio=0.05, n=2.0)
+
     def foundation(m):
         m.buildings[1].foundation = Foundation(mass=4e5, rotary_inertia=2e7, floor_rotary_inertia=3e6,
                                                soil=Soil(200.0, 1900.0, 0.3), footing=Footing(width=15.0, length=15.0))
@@ -52,7 +57,8 @@ def cases(model):
     def storey_pounding(m):
         m.buildings[2].storey_heights = np.full(m.buildings[2].n_floors, 4.0)
 
-    edits = {"plain": [], "yielding storeys": [yielding], "flexible foundation": [foundation],
+    edits = {"plain": [], "yielding storeys": [yielding], "Bouc-Wen storeys": [bouc_wen],
+             "flexible foundation": [foundation],
              "rod floors": [rods], "floor-to-storey": [storey_pounding],
              "all together": [yielding, foundation, rods, storey_pounding]}
     out = {}

@@ -1,10 +1,15 @@
-"""How long one diagnosis takes: ``python -m benchmarks.diagnose.speed [--families none,inelastic-storey]``.
+"""How long one diagnosis takes: ``python -m benchmarks.diagnose.speed [--families none,inelastic-storey] [--forms]``.
 
 The issue's case: a two-building recording of 30 s at 200 Hz (every floor's acceleration and
 both roofs' displacements, 1 % noise), made by the independent generator (``generate.py``),
 one case per family.  Timed: the whole ``diagnose`` call as a user makes it (reading the
 model, recording and channel map, numerics check, recalibration, every hypothesis, the
 report, the augmented model and the figure).  Target: under 60 s each on this machine.
+
+``--forms``: instead, the cost of one simulation of each hypothesis form on the family
+``none``'s case (what a search pays per evaluation): ``Observer.simulate`` of the form's
+augmented model at its null point, median of ``--repeat`` after one untimed call, next to the
+base model's.
 """
 
 from __future__ import annotations
@@ -21,7 +26,11 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--families", default="none,inelastic-storey,spatially-varying-input")
     ap.add_argument("--seed", type=int, default=31)
+    ap.add_argument("--forms", action="store_true", help="time one simulation per hypothesis form")
+    ap.add_argument("--repeat", type=int, default=5)
     args = ap.parse_args(argv)
+    if args.forms:
+        return _forms(args.seed, args.repeat)
     from seispound.diagnose import diagnose
 
     with tempfile.TemporaryDirectory() as tmp:
@@ -35,6 +44,45 @@ def main(argv=None) -> int:
             print(f"{fam}: 2 buildings ({key['impacts']} impacts), 30 s at 200 Hz: diagnose {wall:.1f} s "
                   f"({'under' if wall < 60 else 'OVER'} 60 s); named {[x['physics'] for x in d.left_out] or 'nothing'}"
                   f", NE {d.ne_before:.4f} -> {d.ne_after:.4f}", flush=True)
+    return 0
+
+
+def _forms(seed, repeat) -> int:
+    import statistics
+    import tomllib
+
+    from seispound.calibrate.api import load_inputs
+    from seispound.calibrate.observe import Observer
+    from seispound.diagnose.hypotheses import _AUGMENT, ALTERNATIVES, HYPOTHESES
+
+    with tempfile.TemporaryDirectory() as tmp:
+        f = Path(tmp) / "none"
+        write_case(f, "none", seed, duration=30.0, buildings=2)
+        model, chans, trials = load_inputs(f / "model.toml", [f / "recording.mseed"], f / "channels.toml", None)
+        data = tomllib.loads(model.text)
+        data.setdefault("analysis", {}).setdefault("contact_substeps", 32)
+
+        def timed(table, overrides):
+            obs = Observer(table, f, chans, trials)
+            obs.simulate(overrides)
+            ts = []
+            for _ in range(repeat):
+                t0 = time.perf_counter()
+                obs.simulate(overrides)
+                ts.append(time.perf_counter() - t0)
+            return statistics.median(ts)
+
+        base = timed(data, [])
+        obs = Observer(data, f, chans, trials)
+        obs.simulate([])
+        print(f"one simulation, 2 buildings, 30 s at 200 Hz, median of {repeat}:")
+        print(f"  base row: {1e3 * base:.1f} ms ({len(obs.impact_times[0])} impacts)")
+        for name, hyp in {**HYPOTHESES, **ALTERNATIVES}.items():
+            for k, form in enumerate(_AUGMENT[name]):
+                table, specs, null = hyp.augment(data, k)
+                t = timed(table, list(null.items()))
+                print(f"  {name} / {form.__name__.lstrip('_')}: {1e3 * t:.1f} ms ({t / base:.1f} x the base row), "
+                      f"{len(specs)} parameters", flush=True)
     return 0
 
 

@@ -117,9 +117,11 @@ def newmark_substeps(model, system) -> int:
     impacts).  A tolerance below the default (0.01) scales the rule's 0.2 rad by sqrt(tolerance /
     0.01), up to MAX_TOLERANCE_NEWMARK substeps; a looser one keeps it.
     """
-    if not system.needs_general_driver:
-        return 1
+    from .integrate.newmark import general_driver_needed
     from .model.analysis import DEFAULT_TOLERANCE
+
+    if not general_driver_needed(system, model.analysis.scheme):
+        return 1
 
     # a tolerance finer than the default asks a smaller omega h, as the error's (omega h)^2 falls
     tol = model.analysis.tolerance

@@ -256,7 +256,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     if driver == "fast" and system.needs_general_driver:
         raise ValueError("this row needs the general driver (storeys with history, coupled masses, "
                          "three-DOF elements or gaps against storeys)")
-    if driver == "general" or (driver == "auto" and system.needs_general_driver):
+    if driver == "general" or (driver == "auto" and general_driver_needed(system, scheme)):
         _check_scheme(scheme)
         return _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capacity, store_history,
                                   tangent, substeps, contact_step, free_flight, scheme, elastic_predictor)
@@ -285,7 +285,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     moving = ground.shape[2] > 1
     nt = nsteps + 1 if store_history else 1
     basis = _cached_basis(system) if free_flight or scheme == "exact" else None
-    exact = scheme == "exact" and basis is not None
+    exact = scheme == "exact" and basis is not None  # else Newmark between impacts, and the result says so
     ex_co = _cached_exact(basis, dt) if exact else np.zeros((8, 0))
     if basis is not None:
         md = (bool(free_flight), basis.start, basis.blocks_t, basis.block_offset, basis.phi_t, basis.phi_tm,
@@ -333,7 +333,34 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
                  joins=int(st[K.S_JOINS]), dof_steps=int(st[K.S_DOF_STEPS]))
     return RawResult(time=np.arange(nt) * dt, displacement=out["out_u"], velocity=out["out_v"],
                      acceleration=out["out_a"], force=force, energy=out["out_e"],
-                     peak_displacement=out["umax"], peak_force=peak_force, impacts=imp, stats=stats)
+                     peak_displacement=out["umax"], peak_force=peak_force, impacts=imp, stats=stats,
+                     scheme="exact" if exact else "newmark")
+
+
+def general_driver_needed(system, scheme: str = "exact") -> bool:
+    """Whether ``integrate(driver="auto")`` runs ``system`` (SystemArrays) on the general driver.
+
+    Rows with physics the fast driver does not hold (``system.needs_general_driver``: storeys with
+    history, coupled masses, three-DOF elements, gaps against storeys); and, for the exact scheme,
+    rows whose linear part has no real modal basis (``modal.modal_basis`` is None: non-classical
+    damping, such as a rod's bolted element on a damped joint, a singular building, or a building
+    of more than ``modal.MAX_MODAL_BLOCK`` DOFs) while every building fits the general driver's
+    state-transition maps (``transition.MAX_BLOCK_DOFS``).  The fast driver would step those rows
+    by Newmark between impacts, where its kHz modes lose their phase within a few steps (a rod
+    slab's ringing after the impact, ``tests/verification/test_hung_slabs.py``); the general
+    driver flies them free exactly.
+    """
+    if system.needs_general_driver:
+        return True
+    if scheme != "exact" or system.n_dof == 0:
+        return False
+    arrays = system.kernel_arrays()
+    if _cached_basis(arrays) is not None:
+        return False
+    from .modal import dof_blocks
+    from .transition import MAX_BLOCK_DOFS
+
+    return int(np.max(np.diff(dof_blocks(arrays.n_dof, arrays.el_i, arrays.el_j)))) <= MAX_BLOCK_DOFS
 
 
 def _writable(*arrays):

@@ -337,7 +337,7 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
         duration=float(model.analysis.nsteps * model.analysis.dt),
         newmark_beta=float(nm.beta),
         newmark_gamma=float(nm.gamma),
-        scheme=model.analysis.scheme if raw.driver == "fast" else raw.scheme,
+        scheme=raw.scheme,  # what ran between impacts: "newmark" where the exact scheme had no basis
         driver=raw.driver,
         newmark_substeps=int(raw.stats.get("newmark_substeps", 1)),
         contact_step_limit=float(raw.stats.get("contact_step", np.inf)),

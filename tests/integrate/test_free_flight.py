@@ -97,8 +97,12 @@ def test_non_classical_damping_steps_physically():
     a0[2] *= 4.0
     s = dataclasses.replace(s, dof_a0=a0)
     ag, nsteps = el_centro(6.0, 0.005)
-    r = integrate(s, ag, 0.005, nsteps)
+    r = integrate(s, ag, 0.005, nsteps, driver="fast")
     assert r.stats["free_flight_steps"] == 0 and r.stats["free_flight_blocks"] == 0
+    assert r.scheme == "newmark"  # and the result says so
+    # left to choose, the exact scheme takes such a row to the general driver's exact free flight
+    auto = integrate(s, ag, 0.005, nsteps)
+    assert auto.driver == "general" and auto.scheme == "exact" and auto.stats["free_flight_steps"] > 0
     # and the energy still balances (the check does not depend on the modes)
     e = r.energy
     assert abs(e[-1, 0] - e[-1, 1:].sum()) <= 1e-12 * e[:, 0].max()

@@ -47,7 +47,8 @@ class RawResult:
     storey_force: np.ndarray | None = None
     storey_dofs: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))  # the DOF above each
     driver: str = "fast"
-    # the scheme between impacts: "exact" or "newmark" (the general driver without free flight: "newmark")
+    # the scheme that ran between impacts: "exact" or "newmark" (the Newmark scheme asked; the general driver
+    # without free flight; the fast driver without a modal basis)
     scheme: str = "exact"
     drift: np.ndarray | None = None  # (nt, n) m: set by results.floors.floor_view (storey deformations)
 

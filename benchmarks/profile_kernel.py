@@ -42,7 +42,8 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parent.parent
 
 
-def _child(model: str, row: str | None, out: Path, seconds: float, physics: str | None = None) -> int:
+def _child(model: str, row: str | None, out: Path, seconds: float, physics: str | None = None,
+           driver: str = "auto") -> int:
     from seispound import load_model
     from seispound.integrate import _general as G
     from seispound.integrate import _kernel as K
@@ -59,7 +60,7 @@ def _child(model: str, row: str | None, out: Path, seconds: float, physics: str 
         ag, nsteps = _ground(20.0, dt)
 
         def run():
-            return integrate(system, ag, dt, nsteps)
+            return integrate(system, ag, dt, nsteps, driver=driver)
     elif physics:  # a case of benchmarks.physics (its driver's kernel is profiled)
         from .physics import cases
 
@@ -69,7 +70,7 @@ def _child(model: str, row: str | None, out: Path, seconds: float, physics: str 
         n_nm = newmark_substeps(m, system)
 
         def run():
-            return integrate(system, motions.rows, an.dt, an.nsteps, an.newmark, substeps=n_nm)
+            return integrate(system, motions.rows, an.dt, an.nsteps, an.newmark, substeps=n_nm, driver=driver)
     else:
         m = load_model(model)
         an = m.analysis
@@ -77,7 +78,7 @@ def _child(model: str, row: str | None, out: Path, seconds: float, physics: str 
         ag, _ = prepare_ground_motion(m)
 
         def run():
-            return integrate(system, ag, an.dt, an.nsteps, an.newmark)
+            return integrate(system, ag, an.dt, an.nsteps, an.newmark, driver=driver)
 
     raw = run()
     kernel = G.general_kernel if raw.driver == "general" else K.integrate_kernel
@@ -133,12 +134,14 @@ def main(argv=None) -> int:
                     "(buildings x storeys, 20 s of El Centro 180, Hd, gaps 2 cm)")
     ap.add_argument("--physics", help="instead of the model as it is: a case of benchmarks.physics on it, e.g. "
                     "'flexible foundation' (the general driver's kernel when it runs there)")
+    ap.add_argument("--driver", default="auto", choices=("auto", "fast", "general"),
+                    help="the driver to run (default auto: the one integrate picks)")
     ap.add_argument("--seconds", type=float, default=10.0, help="length of the sampled loop (default 10)")
     ap.add_argument("--frequency", type=int, default=10000, help="perf sampling frequency [Hz]")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
-        return _child(args.model, args.row, Path(args.child), args.seconds, args.physics)
+        return _child(args.model, args.row, Path(args.child), args.seconds, args.physics, args.driver)
     for tool in ("perf", "nm"):
         if shutil.which(tool) is None:
             print(f"benchmarks.profile_kernel: {tool} not found on the PATH", file=sys.stderr)
@@ -148,7 +151,7 @@ def main(argv=None) -> int:
         env = dict(os.environ, NUMBA_CACHE_DIR=str(out / "numba-cache"))
         print("compiling the kernel into a fresh numba cache (about a minute) ...", file=sys.stderr, flush=True)
         cmd = [sys.executable, "-m", "benchmarks.profile_kernel", "--model", args.model,
-               "--seconds", str(args.seconds), "--child", str(out)] + (["--row", args.row] if args.row else []) \
+               "--seconds", str(args.seconds), "--driver", args.driver, "--child", str(out)] + (["--row", args.row] if args.row else []) \
             + (["--physics", args.physics] if args.physics else [])
         if subprocess.run(cmd, cwd=REPO, env=env).returncode != 0 or not (out / "kernel.o").exists():
             print("benchmarks.profile_kernel: compiling the kernel failed", file=sys.stderr)

@@ -138,11 +138,10 @@ def test_the_elastic_predictor_agrees_to_the_newton_tolerance():
     assert diffs[1] <= 2.5e-9 and diffs[0] <= 2e-6 and diffs[1] < diffs[0] / 100
 
 
-def test_a_stiffly_damped_row_takes_the_physical_path():
-    """A dashpot that damps a mode by e^-12500 per step: the exact maps' input work (Van Loan's block
-    exponential, which holds e^(+|Re lambda| h)) would overflow, so the row is stepped physically."""
-    from seispound.integrate.transition import MAX_DECAY_EXPONENT, _decay_exponent
-
+def test_a_stiffly_damped_row_flies_free_exactly():
+    """A dashpot that damps a mode by e^-12500 per step (a sway dashpot of 1e12 N s/m): the exact maps need
+    only decaying exponentials (``transition._exact_maps``), so the row flies free exactly and its energy
+    balance closes to round-off."""
     m = load_model(ROW)
     m.analysis.duration = 2.0
     m.buildings[1].foundation = Foundation(mass=4e5, rotary_inertia=2e7, sway_stiffness=1e9, sway_damping=1e12,
@@ -150,8 +149,10 @@ def test_a_stiffly_damped_row_takes_the_physical_path():
     m.buildings[1].validate()
     m.__dict__.pop("_assembled", None)
     system, motions = run_inputs(m)
-    M, C, K = system.matrices()
-    assert _decay_exponent(M, C, K, m.analysis.dt) > MAX_DECAY_EXPONENT
     raw = integrate(system, motions.rows, m.analysis.dt, m.analysis.nsteps, Newmark(contact_substeps=32))
-    assert raw.stats["free_flight_steps"] == 0 and raw.scheme == "newmark"
-    assert np.all(np.isfinite(raw.displacement)) and np.all(np.isfinite(raw.energy))
+    e = raw.energy
+    balance = np.abs(e[:, 0] - e[:, 1:].sum(axis=1)).max() / np.abs(e[:, 0]).max()
+    print(f"MEASURED e^-12500 per step: {raw.stats['free_flight_steps']} of {m.analysis.nsteps} steps in free "
+          f"flight, energy balance {balance:.1e}")
+    assert raw.scheme == "exact" and raw.stats["free_flight_steps"] > m.analysis.nsteps // 2
+    assert np.all(np.isfinite(raw.displacement)) and balance <= 1e-12

@@ -61,6 +61,14 @@ def _child(model: str, row: str | None, out: Path, seconds: float, physics: str 
 
         def run():
             return integrate(system, ag, dt, nsteps, driver=driver)
+    elif physics and "/" in physics:  # a diagnose form on the speed benchmark's case (name/form)
+        m = _diagnose_form(physics, out)
+        an = m.analysis
+        system, motions = run_inputs(m)
+        n_nm = newmark_substeps(m, system)
+
+        def run():
+            return integrate(system, motions.rows, an.dt, an.nsteps, an.newmark, substeps=n_nm, driver=driver)
     elif physics:  # a case of benchmarks.physics (its driver's kernel is profiled)
         from .physics import cases
 
@@ -106,6 +114,30 @@ def _child(model: str, row: str | None, out: Path, seconds: float, physics: str 
     return 0
 
 
+def _diagnose_form(name: str, out: Path):
+    """The model of ``diagnose``'s form ``hypothesis/form`` (e.g. distributed-mass/_attached) at its null
+    point, on the case of ``benchmarks.diagnose.speed --forms`` (two buildings, 30 s at 200 Hz)."""
+    import tomllib
+
+    from seispound.calibrate.api import load_inputs
+    from seispound.calibrate.observe import Observer
+    from seispound.diagnose.hypotheses import _AUGMENT, ALTERNATIVES, HYPOTHESES
+
+    from .diagnose.generate import write_case
+
+    hyp_name, form_name = name.split("/")
+    f = out / "case"
+    if not (f / "model.toml").exists():
+        write_case(f, "none", 31, duration=30.0, buildings=2)
+    model, chans, trials = load_inputs(f / "model.toml", [f / "recording.mseed"], f / "channels.toml", None)
+    data = tomllib.loads(model.text)
+    data.setdefault("analysis", {}).setdefault("contact_substeps", 32)
+    hyp = {**HYPOTHESES, **ALTERNATIVES}[hyp_name]
+    k = [fn.__name__ for fn in _AUGMENT[hyp_name]].index(form_name)
+    table, _, null = hyp.augment(data, k)
+    return Observer(table, f, chans, trials).model_for(trials[0], list(null.items()))
+
+
 def _symbols(obj: Path):
     """(offset, size, name) of the functions in the object's code, sorted by offset."""
     txt = subprocess.run(["nm", "-S", str(obj)], capture_output=True, text=True, check=True).stdout
@@ -133,7 +165,8 @@ def main(argv=None) -> int:
     ap.add_argument("--row", help="instead of a model: a row of the scaling benchmark, e.g. 4x25 "
                     "(buildings x storeys, 20 s of El Centro 180, Hd, gaps 2 cm)")
     ap.add_argument("--physics", help="instead of the model as it is: a case of benchmarks.physics on it, e.g. "
-                    "'flexible foundation' (the general driver's kernel when it runs there)")
+                    "'flexible foundation' (the general driver's kernel when it runs there); or a form of "
+                    "diagnose on the case of benchmarks.diagnose.speed, e.g. 'distributed-mass/_attached'")
     ap.add_argument("--driver", default="auto", choices=("auto", "fast", "general"),
                     help="the driver to run (default auto: the one integrate picks)")
     ap.add_argument("--seconds", type=float, default=10.0, help="length of the sampled loop (default 10)")

@@ -50,8 +50,8 @@ from seispound._jit import njit
 
 from ._borrow import borrow, keep_alive
 from ._contact import _begin_impact, _contact_step, _end_impact, _group_contacts, _peak_through
-from ._elements import (_add_to_band, _dot, _scatter, assemble_band, kinetic_energy, linear_forces, mass_times,
-                        strain_energy)
+from ._elements import (_add_to_band, _dot, _scatter, assemble_band, kinetic_energy, linear_bands, linear_forces,
+                        mass_times, strain_energy)
 from ._events import LAND_TOL, _event_in_step
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
 from ._linear import _dense_solve, _factor_band, _solve_range
@@ -82,7 +82,7 @@ N_LEVELS = 40  # factors kept for h = dt / 2^k, k < N_LEVELS
 @njit(cache=True)
 def _factor(cm, cc, lin, p, L):
     """Assemble and factor A = cm M + cc C + K into L; False if A is not positive definite."""
-    ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin
+    ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin[:8]
     assemble_band(cm, cc, 1.0, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, L)
     return _factor_band(L, p, 0, L.shape[0])
 
@@ -93,7 +93,7 @@ def _factor_elastic(cm, cc, lin, el, pT, L):
 
     el = (ne_dof, ne_coef, ne_par, ne_gap); pT: the band with the storeys.  False if not positive definite.
     """
-    ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin
+    ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin[:8]
     ne_dof, ne_coef, ne_par, ne_gap = el
     assemble_band(cm, cc, 1.0, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, pT, L)
     for q in range(ne_gap.size):
@@ -115,8 +115,7 @@ def _acceleration(LM, pm, lin, dof_load, dof_motion, g, u, v, ne_dof, ne_coef, F
 
     Also leaves K u + C v in flin.
     """
-    ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin
-    linear_forces(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, u, v, flin)
+    linear_forces(lin[8], u, v, flin)
     _load(dof_load, dof_motion, g, a)
     for i in range(a.size):
         a[i] -= flin[i]
@@ -135,11 +134,11 @@ def _predictor(h, beta, gamma, Lf, p, lin, dof_load, dof_motion, g1, u, v, a, Vv
     storeys at their elastic stiffness (the elastic predictor) and R0 their committed forces F,
     R0 -= sum b_q F_q: the incremental form of a linear element.
     """
-    ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin
+    ms_dof, ms_coef, ms_val = lin[0], lin[1], lin[2]
     for i in range(u.size):
         Vv[i] = (1.0 - gamma / beta) * v[i] + (1.0 - 0.5 * gamma / beta) * h * a[i]
         Av[i] = -v[i] / (beta * h) - (0.5 / beta - 1.0) * a[i]
-    linear_forces(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, u, Vv, R0)
+    linear_forces(lin[8], u, Vv, R0)
     mass_times(ms_dof, ms_coef, ms_val, Av, work)
     _load(dof_load, dof_motion, g1, Du)
     for i in range(u.size):
@@ -344,7 +343,7 @@ def _solve_groups(grp, elg, stp, frc, fac, band, wrk, opts):
                 Fm[k] += (F[q] - F_old[q]) * (h / h_old[q])
         if banded:
             if h != h_A:  # A's band at this step size, the tangent's starting point
-                ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin
+                ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin[:8]
                 assemble_band(cm, cc, 1.0, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, pT, Aband)
                 h_A = h
             ok_c, it_c = _newton_tangent(lo_c, hi_c, act, (ne_dof, ne_coef, ne_code, ne_par, ne_gap), dl, rl, Fm,
@@ -410,30 +409,33 @@ def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs, ys, cst):
         a = start[c]
         nb = start[c + 1] - a
         nx = 2 * nb
+        x = xs[:nx]
         for k in range(nb):  # x0 = [u; v] of the building, contiguous
-            xs[k] = u[a + k]
-            xs[nb + k] = v[a + k]
+            x[k] = u[a + k]
+            x[nb + k] = v[a + k]
+        # 2-D views of the building's maps: the row loops below are plain dot products, which vectorise
+        P = phi[off_x[c]:off_x[c + 1]].reshape((3 * nb, nx))
+        Q0 = G0[off_g[c]:off_g[c + 1]].reshape((3 * nb, nm))
+        Q1 = G1[off_g[c]:off_g[c + 1]].reshape((3 * nb, nm))
+        y = ys[:3 * nb]
         for r in range(3 * nb):
-            base = off_x[c] + r * nx
             s = 0.0
             for k in range(nx):
-                s += phi[base + k] * xs[k]
-            bg = off_g[c] + r * nm
+                s += P[r, k] * x[k]
             for m in range(nm):
-                s += G0[bg + m] * gs[m] + G1[bg + m] * gs[nm + m]
-            if r < nb:
-                u1[a + r] = s
-            elif r < nx:
-                v1[a + r - nb] = s
-            else:
-                a1[a + r - nx] = s
+                s += Q0[r, m] * gs[m] + Q1[r, m] * gs[nm + m]
+            y[r] = s
+        for r in range(nb):
+            u1[a + r] = y[r]
+            v1[a + r] = y[nb + r]
+            a1[a + r] = y[nx + r]
+        E = egx[off_e[c]:off_e[c + 1]].reshape((2 * nm, nx))
         for m in range(2 * nm):
             if gs[m] == 0.0:
                 continue
-            row = off_e[c] + m * nx
             s = 0.0
             for k in range(nx):
-                s += egx[row + k] * xs[k]
+                s += E[m, k] * x[k]
             de += gs[m] * s
         for j in range(st_start[c], st_start[c + 1]):  # the bilinear storeys' constant terms
             cj = cst[j]
@@ -606,7 +608,9 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     nn = ne_size.size
     nm = ag.shape[0]
     cap = imp_gap.size
-    lin = (ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c)
+    # the linear part as elements (assembly) and as the bands of K and C (its forces)
+    lin = (ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c,
+           linear_bands(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p))
     nw = max(nn, 1)
     # -- work arrays -----------------------------------------------------------
     L_lev = np.empty((N_LEVELS, n, p + 2))
@@ -788,7 +792,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
                             fmax, False)
                 continue
         if flin_stale:  # K u + C v at the state free flight left (the corrector's trapezoidal work needs it)
-            linear_forces(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, u, v, flin)
+            linear_forces(lin[8], u, v, flin)
             flin_stale = False
         while t_end - t > 1e-9 * dt:
             # ---- step size: the rest of the analysis step, or the contact substep grid
@@ -993,14 +997,13 @@ def _accept(h, cm, cc, lin, dof_load, dof_motion, ne_dof, ne_coef, ne_gap, act, 
             flin, flin1, F, F1, F_old, h_old, age, st_c, st_t, fmax, imp_fmax, cur_imp, umax, e_in, w_lin, w_hys,
             e_cont):
     """Accept the trial step: state, committed laws, peaks and every force's trapezoidal work."""
-    ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin
     for i in range(u.size):
         e_in -= 0.5 * dof_load[i] * (g0[dof_motion[i]] + g1[dof_motion[i]]) * Du[i]
         u[i] += Du[i]
         v[i] = Vv[i] + cc * Du[i]
         a[i] = Av[i] + cm * Du[i]
         umax[i] = max(umax[i], abs(u[i]))
-    linear_forces(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, u, v, flin1)
+    linear_forces(lin[8], u, v, flin1)
     for i in range(u.size):
         w_lin += 0.5 * (flin[i] + flin1[i]) * Du[i]
         flin[i] = flin1[i]
@@ -1029,7 +1032,7 @@ def _accept(h, cm, cc, lin, dof_load, dof_motion, ne_dof, ne_coef, ne_gap, act, 
 def _output(k, store, u, v, a, g, dof_motion, dof_infl, F, lin, ne_code, ne_par, ne_gap, st_c, delta, es_lin0, rec0,
             e_in, w_lin, w_hys, e_cont, out_u, out_v, out_a, out_f, out_e, umax, fmax, first):
     """Write output row k (``delta`` holds the storeys' deformations); the first call also starts the peaks."""
-    ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin
+    ms_dof, ms_coef, ms_val, le_dof, le_coef, le_k = lin[0], lin[1], lin[2], lin[4], lin[5], lin[6]
     if first:
         for i in range(u.size):
             umax[i] = abs(u[i])

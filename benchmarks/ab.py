@@ -10,6 +10,12 @@ medians of each and their ratio (working tree / REF), for the pounding run and
 for the no-pounding twin, plus the largest difference of their displacement
 histories.  Timing both in one process removes the machine's drift between
 runs, which is larger than the 5 % a refactoring must stay within.
+
+Both sides compile afresh, into a temporary numba cache: code loaded from numba's cache can run at
+another speed than the same code compiled in the process (the general driver's kernel about 15 %
+slower on ``models/yielding_pair.toml``, the fast driver's not measurably; docs/performance.md), so
+a REF compiled afresh against a working tree loaded from its cache would time the cache, not the
+change.
 """
 
 from __future__ import annotations
@@ -18,6 +24,7 @@ import argparse
 import importlib
 import inspect
 import io
+import os
 import re
 import statistics
 import subprocess
@@ -78,7 +85,10 @@ def main(argv=None) -> int:
     ap.add_argument("--scheme", choices=("exact", "newmark"),
                     help="integration scheme of both sides (REF's only if it has schemes; default: each default)")
     args = ap.parse_args(argv)
+    if "numba" in sys.modules:
+        raise SystemExit("benchmarks.ab: run it in a fresh process (numba must read NUMBA_CACHE_DIR first)")
     with tempfile.TemporaryDirectory() as tmp:
+        os.environ["NUMBA_CACHE_DIR"] = str(Path(tmp) / "numba-cache")  # both sides compile afresh
         export_reference(args.ref, Path(tmp))
         sys.path.insert(0, tmp)
         ref = importlib.import_module("seispound_ref")

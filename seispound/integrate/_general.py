@@ -80,26 +80,64 @@ N_LEVELS = 40  # factors kept for h = dt / 2^k, k < N_LEVELS
 
 
 @njit(cache=True)
-def _factor(cm, cc, lin, p, L):
-    """Assemble and factor A = cm M + cc C + K into L; False if A is not positive definite."""
+def _factor(cm, cc, lin, el, elastic, pb, L):
+    """Assemble and factor A = cm M + cc C + K into L (half bandwidth pb); with ``elastic``,
+    A_el = A + sum over the storeys of k b b^T (their elastic stiffness: el = (ne_dof, ne_coef, ne_par,
+    ne_gap)).  False if not positive definite."""
     ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin[:8]
-    assemble_band(cm, cc, 1.0, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, L)
-    return _factor_band(L, p, 0, L.shape[0])
+    assemble_band(cm, cc, 1.0, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, pb, L)
+    if elastic:
+        ne_dof, ne_coef, ne_par, ne_gap = el
+        for q in range(ne_gap.size):
+            if not ne_gap[q]:
+                _add_to_band(ne_dof, ne_coef, q, ne_par[q, B_K], L)
+    return _factor_band(L, pb, 0, L.shape[0])
 
 
 @njit(cache=True)
-def _factor_elastic(cm, cc, lin, el, pT, L):
-    """Assemble and factor A_el = A + sum over the storeys of k b b^T (their elastic stiffness) into L.
+def _factor_cache(levels, n, pb, nw):
+    """An empty cache for ``_cached_factor``: factors of half bandwidth pb at ``levels`` step sizes and
+    one scratch, and gap columns for nw elements of n DOFs."""
+    return (np.empty((levels, n, pb + 2)), np.zeros(levels, np.bool_), np.empty((n, pb + 2)), np.zeros((nw, n)),
+            np.zeros((nw, n)), np.zeros(nw, np.bool_), np.zeros(nw, np.bool_), np.array([-1], np.int64),
+            np.array([-1.0, -1.0]))
 
-    el = (ne_dof, ne_coef, ne_par, ne_gap); pT: the band with the storeys.  False if not positive definite.
+
+@njit(cache=True, inline="always")
+def _borrow_cache(c):
+    return (borrow(c[0]), borrow(c[1]), borrow(c[2]), borrow(c[3]), borrow(c[4]), borrow(c[5]), borrow(c[6]),
+            borrow(c[7]), borrow(c[8]))
+
+
+@njit(cache=True, inline="always")
+def _cached_factor(lv, h, cm, cc, lin, el, elastic, pb, cache, stats):
+    """The factor of A(h) (A_el with ``elastic``) and the cache of its gap columns A^-1 b_q, kept per
+    step-size level lv (h = dt / 2^lv) and in one scratch slot for any other h (lv < 0).
+
+    cache = (L_lev (levels, n, pb + 2), have (levels,), L_h (n, pb + 2), W_lev, W_scr (nw, n),
+    Wok_lev, Wok_scr (nw,), the level whose columns W_lev holds (1,), the h of L_h and of W_scr's
+    columns (2,)).  Returns (ok, L, W, W_ok); ok False if A is not positive definite.
     """
-    ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = lin[:8]
-    ne_dof, ne_coef, ne_par, ne_gap = el
-    assemble_band(cm, cc, 1.0, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, pT, L)
-    for q in range(ne_gap.size):
-        if not ne_gap[q]:
-            _add_to_band(ne_dof, ne_coef, q, ne_par[q, B_K], L)
-    return _factor_band(L, pT, 0, L.shape[0])
+    L_lev, have, L_h, W_lev, W_scr, Wok_lev, Wok_scr, lv_W, keys = cache
+    if lv >= 0:
+        if not have[lv]:
+            if not _factor(cm, cc, lin, el, elastic, pb, L_lev[lv]):
+                return False, L_h, W_scr, Wok_scr
+            have[lv] = True
+            stats[S_FACTORIZATIONS] += 1
+        if lv != lv_W[0]:
+            Wok_lev[:] = False
+            lv_W[0] = lv
+        return True, L_lev[lv], W_lev, Wok_lev
+    if h != keys[0]:
+        if not _factor(cm, cc, lin, el, elastic, pb, L_h):
+            return False, L_h, W_scr, Wok_scr
+        keys[0] = h
+        stats[S_FACTORIZATIONS] += 1
+    if h != keys[1]:
+        Wok_scr[:] = False
+        keys[1] = h
+    return True, L_h, W_scr, Wok_scr
 
 
 @njit(cache=True)
@@ -613,12 +651,10 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
            linear_bands(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p))
     nw = max(nn, 1)
     # -- work arrays -----------------------------------------------------------
-    L_lev = np.empty((N_LEVELS, n, p + 2))
-    have_lev = np.zeros(N_LEVELS, np.bool_)
+    cache_A = _factor_cache(N_LEVELS, n, p, nw)  # A(h)'s factors and their gap columns (``_cached_factor``)
     h_lev = np.empty(N_LEVELS)
     for k in range(N_LEVELS):
         h_lev[k] = dt / 2.0**k
-    L_h = np.empty((n, p + 2))
     LM = np.empty((n, p + 2))  # the mass matrix's factor (equilibrium accelerations)
     u = u_init.copy()
     v = v_init.copy()
@@ -630,13 +666,6 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     work = np.empty(n)
     flin = np.empty(n)  # K u + C v in equilibrium with (u, v)
     flin1 = np.empty(n)
-    W_lev = np.zeros((nw, n))  # columns A^-1 b_q of the level factor lv_W and of the scratch factor
-    W_scr = np.zeros((nw, n))
-    Wok_lev = np.zeros(nw, np.bool_)
-    Wok_scr = np.zeros(nw, np.bool_)
-    lv_W = -1
-    h_W = -1.0
-    h_scr = -1.0
     act = np.empty(nw, np.int64)  # active elements: every storey, the closed gaps
     comp_off = np.empty(nw + 1, np.int64)  # ... in groups that share no building
     Gm = np.empty((nw, nw))
@@ -680,17 +709,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     v1 = np.empty(n)
     a1 = np.empty(n)
     # the elastic predictor's factors A_el(h) (every storey bilinear: ``el_pred``) and their gap columns
-    n_el = N_LEVELS if el_pred else 1
-    Le_lev = np.empty((n_el, n, pT + 2))
-    have_le = np.zeros(n_el, np.bool_)
-    Le_h = np.empty((n, pT + 2))
-    h_le = -1.0
-    We_lev = np.zeros((nw, n))
-    We_scr = np.zeros((nw, n))
-    Weok_lev = np.zeros(nw, np.bool_)
-    Weok_scr = np.zeros(nw, np.bool_)
-    lv_We = -1
-    h_We = -1.0
+    cache_el = _factor_cache(N_LEVELS if el_pred else 1, n if el_pred else 1, pT, nw if el_pred else 1)
     actg = np.empty(nw, np.int64)  # the closed gaps alone, in groups
     compg_off = np.empty(nw + 1, np.int64)
     xs = np.empty(2 * n + 2 * nm)
@@ -700,18 +719,15 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     for q in range(nn):
         n_storeys += 0 if ne_gap[q] else 1
     # the work arrays: owned by this tuple (kept alive to the end), used through borrowed aliases
-    owners = (L_lev, have_lev, h_lev, L_h, LM, u, v, a, Vv, Av, R0, Du, work, flin, flin1, W_lev, W_scr, Wok_lev,
-              Wok_scr, act, comp_off, Gm, Sm, ym, Fm, dl, rl, resv, kt, Aband, T, zt, xt, Wt, gpos, st_c, st_t, F,
+    owners = (cache_A, cache_el, h_lev, LM, u, v, a, Vv, Av, R0, Du, work, flin, flin1, act, comp_off, Gm, Sm, ym, Fm, dl, rl, resv, kt, Aband, T, zt, xt, Wt, gpos, st_c, st_t, F,
               F1, F_old, h_old, active, zeta, hsub, age, cur_imp, d0, r0, d1, r1, toggles, land_too, gk, g_t, g_1,
-              zero, u1, v1, a1, xs, ys, cst, Le_lev, have_le, Le_h, We_lev, We_scr, Weok_lev, Weok_scr, actg,
-              compg_off)
+              zero, u1, v1, a1, xs, ys, cst, actg, compg_off)
     u1, v1, a1, xs, ys, cst = borrow(u1), borrow(v1), borrow(a1), borrow(xs), borrow(ys), borrow(cst)
-    Le_lev, have_le, Le_h, We_lev, We_scr = borrow(Le_lev), borrow(have_le), borrow(Le_h), borrow(We_lev), borrow(We_scr)
-    Weok_lev, Weok_scr, actg, compg_off = borrow(Weok_lev), borrow(Weok_scr), borrow(actg), borrow(compg_off)
-    L_lev, have_lev, h_lev, L_h, LM = borrow(L_lev), borrow(have_lev), borrow(h_lev), borrow(L_h), borrow(LM)
+    cache_A, cache_el = _borrow_cache(cache_A), _borrow_cache(cache_el)
+    actg, compg_off, h_lev, LM = borrow(actg), borrow(compg_off), borrow(h_lev), borrow(LM)
     u, v, a, Vv, Av, R0, Du = borrow(u), borrow(v), borrow(a), borrow(Vv), borrow(Av), borrow(R0), borrow(Du)
-    work, flin, flin1, W_lev, W_scr = borrow(work), borrow(flin), borrow(flin1), borrow(W_lev), borrow(W_scr)
-    Wok_lev, Wok_scr, act, comp_off = borrow(Wok_lev), borrow(Wok_scr), borrow(act), borrow(comp_off)
+    work, flin, flin1 = borrow(work), borrow(flin), borrow(flin1)
+    act, comp_off = borrow(act), borrow(comp_off)
     Gm, Sm, ym, Fm, dl, rl = borrow(Gm), borrow(Sm), borrow(ym), borrow(Fm), borrow(dl), borrow(rl)
     resv, kt, Aband, T, zt, xt = borrow(resv), borrow(kt), borrow(Aband), borrow(T), borrow(zt), borrow(xt)
     Wt, gpos, st_c, st_t, F, F1 = borrow(Wt), borrow(gpos), borrow(st_c), borrow(st_t), borrow(F), borrow(F1)
@@ -720,6 +736,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     d1, r1, toggles, land_too, gk = borrow(d1), borrow(r1), borrow(toggles), borrow(land_too), borrow(gk)
     g_t, g_1, zero = borrow(g_t), borrow(g_1), borrow(zero)
     elg = (ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi)
+    el_b = (ne_dof, ne_coef, ne_par, ne_gap)  # what the elastic factor adds
     twork = (zt, xt, resv, kt, Wt, Sm, ym, gpos)
     no_storeys = (False, ne_dof, ne_coef, ne_gap, F)
     for s in range(stats.size):
@@ -815,30 +832,9 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
                     h = h_lev[lv]
                 cm = 1.0 / (beta * h * h)
                 cc = gamma / (beta * h)
-                if lv >= 0:
-                    if not have_lev[lv]:
-                        if not _factor(cm, cc, lin, p, L_lev[lv]):
-                            return NEWTON_FAILED, n_imp, t
-                        have_lev[lv] = True
-                        stats[S_FACTORIZATIONS] += 1
-                    Lf = L_lev[lv]
-                    if lv != lv_W:
-                        Wok_lev[:] = False
-                        lv_W = lv
-                    W = W_lev
-                    W_ok = Wok_lev
-                else:
-                    if h != h_scr:
-                        if not _factor(cm, cc, lin, p, L_h):
-                            return NEWTON_FAILED, n_imp, t
-                        h_scr = h
-                        stats[S_FACTORIZATIONS] += 1
-                    Lf = L_h
-                    if h != h_W:
-                        Wok_scr[:] = False
-                        h_W = h
-                    W = W_scr
-                    W_ok = Wok_scr
+                ok, Lf, W, W_ok = _cached_factor(lv, h, cm, cc, lin, el_b, False, p, cache_A, stats)
+                if not ok:
+                    return NEWTON_FAILED, n_imp, t
                 _ground_all(ag, t + h, dt, g_1)
                 if moving:
                     _gap_ground_all(ne_ground, t + h, dt, gk, GU1)
@@ -847,28 +843,9 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
                 if el_pred:
                     # ---- ELASTIC PREDICTOR: every (bilinear) storey at its elastic stiffness in the linear
                     # part, Newton on the closed gaps alone; kept if every storey ends the step elastic
-                    if lv >= 0:
-                        if not have_le[lv]:
-                            if not _factor_elastic(cm, cc, lin, (ne_dof, ne_coef, ne_par, ne_gap), pT, Le_lev[lv]):
-                                return NEWTON_FAILED, n_imp, t
-                            have_le[lv] = True
-                            stats[S_FACTORIZATIONS] += 1
-                        Le = Le_lev[lv]
-                        if lv != lv_We:
-                            Weok_lev[:] = False
-                            lv_We = lv
-                        We, We_ok = We_lev, Weok_lev
-                    else:
-                        if h != h_le:
-                            if not _factor_elastic(cm, cc, lin, (ne_dof, ne_coef, ne_par, ne_gap), pT, Le_h):
-                                return NEWTON_FAILED, n_imp, t
-                            h_le = h
-                            stats[S_FACTORIZATIONS] += 1
-                        Le = Le_h
-                        if h != h_We:
-                            Weok_scr[:] = False
-                            h_We = h
-                        We, We_ok = We_scr, Weok_scr
+                    ok, Le, We, We_ok = _cached_factor(lv, h, cm, cc, lin, el_b, True, pT, cache_el, stats)
+                    if not ok:
+                        return NEWTON_FAILED, n_imp, t
                     _predictor(h, beta, gamma, Le, pT, lin, dof_load, dof_motion, g_1, u, v, a, Vv, Av, R0, Du, work,
                                (True, ne_dof, ne_coef, ne_gap, F))
                     stats[S_ITERATIONS] += 1

@@ -108,6 +108,8 @@ class Observer:
         self.impact_times.append(np.sort(raw.impacts.get("t0", np.zeros(0))))
         view, floors = floor_view(raw, system)
         t_rec = trial.recording.time
+        # the recording's grid is the analysis grid (the model's dt is the recording's): no interpolation
+        same = t_rec.size == raw.time.size and np.array_equal(t_rec, raw.time)
         out = {}
         names = [b.name for b in model.buildings]
         for ch in self.channels:
@@ -118,7 +120,7 @@ class Observer:
             else:
                 b = names.index(ch.building)
                 x = _floor_history(ch, b, model, system, raw, view, floors)
-            out[ch.id] = np.interp(t_rec, raw.time, x)
+            out[ch.id] = np.array(x, dtype=float) if same else np.interp(t_rec, raw.time, x)
         return out
 
 

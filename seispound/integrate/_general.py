@@ -140,7 +140,7 @@ def _cached_factor(lv, h, cm, cc, lin, el, elastic, pb, cache, stats):
     return True, L_h, W_scr, Wok_scr
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _load(dof_load, dof_motion, g, out):
     """The effective earthquake load -M iota a_g [N] for the ground accelerations g (per motion row)."""
     for i in range(out.size):
@@ -163,7 +163,7 @@ def _acceleration(LM, pm, lin, dof_load, dof_motion, g, u, v, ne_dof, ne_coef, F
     _solve_range(LM, pm, a, a, 0, a.size)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _predictor(h, beta, gamma, Lf, p, lin, dof_load, dof_motion, g1, u, v, a, Vv, Av, R0, Du, work, storeys):
     """The step with every element force of state frozen at zero: Du = A^-1 R0 (R0 kept).
 
@@ -340,7 +340,7 @@ def _newton_tangent(lo, hi, act, el, dl, rl, Fm, cc, st_c, st_t, fac, work, scal
             Fm[k] += -resv[k] + kt[k] * _dot(ne_dof, ne_coef, act[k], x)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _solve_groups(grp, elg, stp, frc, fac, band, wrk, opts):
     """Newton on the forces of the active elements, group by group; Du less their share (``general_kernel``).
 
@@ -495,7 +495,7 @@ def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs, ys, cst):
     return de
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _screen(ne_gap, active, d0, r0, d1, r1, h, landed, target, land_too):
     """The first event of any gap in a trial step: (theta, gap, n_land) (theta 2: none).
 
@@ -522,7 +522,7 @@ def _screen(ne_gap, active, d0, r0, d1, r1, h, landed, target, land_too):
     return theta, g_ev, n_land
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1, gk, state, gaps, mat, umax):
     """The analysis step ending at t_end in free flight (``_free_flight_trial``), accepted if no gap
     touches and no bilinear storey leaves its elastic range in it.
@@ -1005,7 +1005,7 @@ def _accept(h, cm, cc, lin, dof_load, dof_motion, ne_dof, ne_coef, ne_gap, act, 
     return e_in, w_lin, w_hys, e_cont
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _output(k, store, u, v, a, g, dof_motion, dof_infl, F, lin, ne_code, ne_par, ne_gap, st_c, delta, es_lin0, rec0,
             e_in, w_lin, w_hys, e_cont, out_u, out_v, out_a, out_f, out_e, umax, fmax, first):
     """Write output row k (``delta`` holds the storeys' deformations); the first call also starts the peaks."""

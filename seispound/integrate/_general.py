@@ -252,7 +252,7 @@ def _newton(lo, hi, act, Gm, dl, rl, Fm, cc, ne_code, ne_par, st_c, st_t, scale,
             Fm[k] += ym[k - lo]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _newton_tangent(lo, hi, act, el, dl, rl, Fm, cc, st_c, st_t, fac, work, scale, rtol, max_iter):
     """Newton-Raphson on the forces Fm[lo:hi] of a group that holds storeys with state, on the banded tangent.
 
@@ -738,7 +738,6 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     elg = (ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi)
     el_b = (ne_dof, ne_coef, ne_par, ne_gap)  # what the elastic factor adds
     twork = (zt, xt, resv, kt, Wt, Sm, ym, gpos)
-    no_storeys = (False, ne_dof, ne_coef, ne_gap, F)
     for s in range(stats.size):
         stats[s] = 0
     n_imp = 0
@@ -840,45 +839,50 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
                     _gap_ground_all(ne_ground, t + h, dt, gk, GU1)
                 frc = (F, F1, F_old, h_old, age, Fm, dl, rl, st_c, st_t)
                 elastic = False
-                if el_pred:
-                    # ---- ELASTIC PREDICTOR: every (bilinear) storey at its elastic stiffness in the linear
-                    # part, Newton on the closed gaps alone; kept if every storey ends the step elastic
-                    ok, Le, We, We_ok = _cached_factor(lv, h, cm, cc, lin, el_b, True, pT, cache_el, stats)
-                    if not ok:
-                        return NEWTON_FAILED, n_imp, t
-                    _predictor(h, beta, gamma, Le, pT, lin, dof_load, dof_motion, g_1, u, v, a, Vv, Av, R0, Du, work,
-                               (True, ne_dof, ne_coef, ne_gap, F))
+                converged = True
+                for phase in range(2):
+                    # phase 0, the ELASTIC PREDICTOR (every storey bilinear): the storeys at their elastic
+                    # stiffness in the linear part, Newton on the closed gaps alone, kept if every storey ends the
+                    # step elastic; phase 1, the PREDICTOR with every element force of state frozen at zero, then
+                    # the ITERATIONS: Newton on the active elements' forces, condensed through A^-1
+                    if phase == 0 and not el_pred:
+                        continue
+                    if phase == 0:
+                        ok, Lp, Wp, Wp_ok = _cached_factor(lv, h, cm, cc, lin, el_b, True, pT, cache_el, stats)
+                        if not ok:
+                            return NEWTON_FAILED, n_imp, t
+                        pb = pT
+                        m_g = 0
+                        for k in range(m_act):
+                            if ne_gap[act[k]]:
+                                actg[m_g] = act[k]
+                                m_g += 1
+                        grp = (m_g, actg, _group_contacts(m_g, actg, ne_lo, ne_hi, compg_off), compg_off)
+                    else:
+                        Lp, Wp, Wp_ok, pb = Lf, W, W_ok, p
+                        grp = (m_act, act, n_comp, comp_off)
+                    # (one call site each: both are inlined)
+                    _predictor(h, beta, gamma, Lp, pb, lin, dof_load, dof_motion, g_1, u, v, a, Vv, Av, R0, Du, work,
+                               (phase == 0, ne_dof, ne_coef, ne_gap, F))
                     stats[S_ITERATIONS] += 1
                     stats[S_DOF_STEPS] += n
-                    m_g = 0
-                    for k in range(m_act):
-                        if ne_gap[act[k]]:
-                            actg[m_g] = act[k]
-                            m_g += 1
-                    n_cg = _group_contacts(m_g, actg, ne_lo, ne_hi, compg_off)
-                    elastic, it, h_A = _solve_groups(
-                        (m_g, actg, n_cg, compg_off), elg, (h, cm, cc, u, Du, Vv, R0, gk), frc, (Le, pT, We, We_ok, Gm),
-                        (Aband, T, pT, h_A, lin, False), (resv, kt, Sm, ym, twork), (rtol, max_iter))
+                    ok, it, h_A = _solve_groups(
+                        grp, elg, (h, cm, cc, u, Du, Vv, R0, gk), frc, (Lp, pb, Wp, Wp_ok, Gm),
+                        (Aband, T, pT, h_A, lin, tangent and phase == 1), (resv, kt, Sm, ym, twork), (rtol, max_iter))
                     stats[S_ITERATIONS] += it
+                    if phase == 1:
+                        converged = ok
+                        stats[S_MAX_ITER] = max(stats[S_MAX_ITER], it)
+                        break
+                    elastic = ok
                     for q in range(nn):
                         if elastic and not ne_gap[q]:
                             ds, rs = _deformation(ne_dof, ne_coef, ne_size, q, u, Du, Vv, cc, gk, GU1)
                             f, dfd, dfv = material_trial(ne_code[q], ne_par, st_c, st_t, q, ds, rs)
                             elastic = dfd == ne_par[q, B_K]
                             F1[q] = f
-                converged = True
-                if not elastic:
-                    # ---- PREDICTOR: every element force of state frozen at zero
-                    _predictor(h, beta, gamma, Lf, p, lin, dof_load, dof_motion, g_1, u, v, a, Vv, Av, R0, Du, work,
-                               no_storeys)
-                    stats[S_ITERATIONS] += 1
-                    stats[S_DOF_STEPS] += n
-                    # ---- ITERATIONS: Newton on the active elements' forces, condensed through A^-1
-                    converged, it, h_A = _solve_groups(
-                        (m_act, act, n_comp, comp_off), elg, (h, cm, cc, u, Du, Vv, R0, gk), frc, (Lf, p, W, W_ok, Gm),
-                        (Aband, T, pT, h_A, lin, tangent), (resv, kt, Sm, ym, twork), (rtol, max_iter))
-                    stats[S_ITERATIONS] += it
-                    stats[S_MAX_ITER] = max(stats[S_MAX_ITER], it)
+                    if elastic:
+                        break
                 if not converged:
                     stats[S_REJECTED] += 1
                     h *= 0.25

@@ -71,13 +71,9 @@ def assemble_band(cm, cc, ck, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, l
 
 
 @njit(cache=True)
-def linear_bands(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p):
-    """KC (2, n, p + 1): the lower bands of K and of C (``assemble_band``'s layout, KC[0, i, i - j] = K(i, j))."""
-    n = 0
-    for dof in (ms_dof, le_dof):
-        for e in range(dof.shape[0]):
-            for k in range(dof.shape[1]):
-                n = max(n, dof[e, k] + 1)
+def linear_bands(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, n):
+    """KC (2, n, p + 1): the lower bands of K and of C (``assemble_band``'s layout, KC[0, i, i - j] = K(i, j))
+    of a row of n DOFs and half bandwidth p."""
     L = np.empty((n, p + 2))
     KC = np.empty((2, n, p + 1))
     for m in range(2):

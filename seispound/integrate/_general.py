@@ -105,6 +105,7 @@ def _factor_cache(levels, n, pb, nw):
 
 @njit(cache=True, inline="always")
 def _borrow_cache(c):
+    """The cache's arrays, borrowed (``_borrow``: no reference counting in the loop)."""
     return (borrow(c[0]), borrow(c[1]), borrow(c[2]), borrow(c[3]), borrow(c[4]), borrow(c[5]), borrow(c[6]),
             borrow(c[7]), borrow(c[8]))
 
@@ -648,7 +649,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     cap = imp_gap.size
     # the linear part as elements (assembly) and as the bands of K and C (its forces)
     lin = (ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c,
-           linear_bands(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p))
+           linear_bands(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, u_init.size))
     nw = max(nn, 1)
     # -- work arrays -----------------------------------------------------------
     cache_A = _factor_cache(N_LEVELS, n, p, nw)  # A(h)'s factors and their gap columns (``_cached_factor``)

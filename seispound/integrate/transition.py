@@ -235,11 +235,13 @@ def _exact_maps(M, C, K, L, R, h, beta, gamma, substeps):
         W = w0^T [S_g^T (-L^T) S_v J0 + S_s^T (-L^T) S_v J1] w0,
         J0 = int_0^h e^(F s) ds,   J1 = int_0^h s e^(F s) ds,
 
-    (S_g, S_s, S_v pick g, g', v out of w), and one exponential of the block matrix
-    B = [[F, I, 0], [0, 0, I], [0, 0, 0]] gives e^(F h) and both integrals: its blocks (1, 2) and
-    (1, 3) are J0 and int_0^h e^(F (h - s)) s ds = h J0 - J1 (Van Loan 1978, Thm. 1; the
-    reduction to J0, J1 derived here).  Only e^(+F s) appears, never e^(-F^T s): a mode damped by
-    e^-100 per step is as well conditioned as an undamped one (soil cones' dashpots).
+    (S_g, S_s, S_v pick g, g', v out of w).  Only the nm rows (-L^T S_v) J0 and (-L^T S_v) J1 are
+    needed, and one exponential of B = [[F^T, -S_v^T L, 0], [0, 0, I], [0, 0, 0]] gives them with
+    e^(F h): its blocks (1, 2) and (1, 3) are J0^T (-S_v^T L) and (h J0 - J1)^T (-S_v^T L), since
+    the (1, 3) block is int_0^h e^(F^T (h - s)) s ds times the border (Van Loan 1978, Thm. 1; the
+    reduction to J0, J1 derived here).  Only decaying exponentials appear (F^T has F's
+    eigenvalues), never e^(-F^T s): a mode damped by e^-100 per step is as well conditioned as an
+    undamped one (soil cones' dashpots), and B is only 2 nm larger than F.
     """
     nb, nm = L.shape
     ns = R.shape[1]
@@ -255,18 +257,20 @@ def _exact_maps(M, C, K, L, R, h, beta, gamma, substeps):
     F[nb:nx, ig:islope] = -Minv @ L
     F[nb:nx, ic:] = Minv @ R
     F[ig:islope, islope:ic] = np.eye(nm)
-    B = np.zeros((3 * nw, 3 * nw))
-    B[:nw, :nw] = F
-    B[:nw, nw:2 * nw] = np.eye(nw)
-    B[nw:2 * nw, 2 * nw:] = np.eye(nw)
+    # the rows (-L^T S_v) J0 and (-L^T S_v) J1, transposed: blocks of the exponential of F^T bordered by
+    # -S_v^T L and an identity (nw + 2 nm square: about the cost of e^(F h) alone)
+    LSv = np.zeros((nm, nw))
+    LSv[:, nb:nx] = -L.T
+    B = np.zeros((nw + 2 * nm, nw + 2 * nm))
+    B[:nw, :nw] = F.T
+    B[:nw, nw:nw + nm] = LSv.T
+    B[nw:nw + nm, nw + nm:] = np.eye(nm)
     E = expm(B * h)
-    E22, J0 = E[:nw, :nw], E[:nw, nw:2 * nw]
-    J1 = h * J0 - E[:nw, 2 * nw:]
-    LS = np.zeros((nw, nw))  # -L^T S_v, placed in the rows of g (and of g')
+    E22 = E[:nw, :nw].T  # e^(F h)
+    A0 = E[:nw, nw:nw + nm].T  # (-L^T S_v) J0
     Qw = np.zeros((nw, nw))
-    LS[:nm, nb:nx] = -L.T
-    Qw[ig:islope] = LS[:nm] @ J0
-    Qw[islope:ic] = LS[:nm] @ J1
+    Qw[ig:islope] = A0
+    Qw[islope:ic] = h * A0 - E[:nw, nw + nm:].T  # (-L^T S_v) J1 = h (...) J0 - (...) int e^(F (h - s)) s ds
     # w0 = T z, z = [x0; g0; g1; c]: the slope is (g1 - g0) / h
     T = np.eye(nw)
     T[islope:ic, ig:islope] = -np.eye(nm) / h

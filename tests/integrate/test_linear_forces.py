@@ -31,7 +31,7 @@ def test_banded_linear_forces_equal_the_dense_product():
     M, C, K = system.matrices()
     p = int(tab["p"])
     KC = linear_bands(tab["ms_dof"], tab["ms_coef"], tab["ms_val"], tab["ms_a0"], tab["le_dof"], tab["le_coef"],
-                      tab["le_k"], tab["le_c"], p)
+                      tab["le_k"], tab["le_c"], p, system.n_dof)
     rng = np.random.default_rng(3)
     worst = 0.0
     for _ in range(5):

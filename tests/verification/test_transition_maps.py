@@ -64,4 +64,4 @@ def test_exact_maps_match_an_implicit_runge_kutta(stiff):
         w = g @ Egx @ x0 + g @ Egg @ g + g @ Egc @ c
         errs.append(max(np.abs(x1 - x_ref).max() / np.abs(x_ref).max(), abs(w - w_ref) / abs(w_ref)))
     print(f"MEASURED exact maps vs Radau, decay {decay:.3g} per step: largest relative error {max(errs):.1e}")
-    assert max(errs) <= 1e-14  # measured 1.8e-15 and 3.3e-15
+    assert max(errs) <= 2e-14  # measured 6.9e-15 and 7.3e-15

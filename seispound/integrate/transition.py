@@ -24,8 +24,9 @@ Two schemes give these maps:
   ground acceleration and its slope (Van Loan 1978, Sec. 1; Moler & Van Loan
   2003, method 19 for the exponential), and the input work
   -int g^T L^T u' dt over the step from the integrals int e^(F s) ds and
-  int s e^(F s) ds, which the same exponential gives when F is bordered by
-  two identities (Van Loan 1978, Thm. 1; ``_exact_maps``).
+  int s e^(F s) ds, whose rows that meet the ground's load one exponential of
+  F^T bordered by that load and an identity gives (Van Loan 1978, Thm. 1;
+  ``_exact_maps``).
 * ``newmark``: ``substeps`` Newmark-beta steps (Chopra, Dynamics of Structures,
   Table 5.7.2), each with the ground acceleration interpolated linearly
   within the analysis step, composed into one map; the input work is the
@@ -47,8 +48,8 @@ for the exact scheme, and equal to the trapezoidal sums for average
 acceleration (beta = 1/4, gamma = 1/2: the inertia's trapezoidal work is the
 kinetic energy's change exactly).  Derived here; not read from a source.
 
-The exact maps come from one exponential of the building's state matrix bordered
-by two identities (``_exact_maps``), in which only decaying exponentials appear: a
+The exact maps come from exponentials of the building's state matrix (and its
+transpose, bordered: ``_exact_maps``) in which only decaying exponentials appear: a
 soil cone's dashpot that damps a mode by e^-100 per step is as well conditioned as
 an undamped mode.  Cost per analysis step: 6 n_b^2 multiply-adds per
 building b (its displacements, velocities and accelerations from x0), against a

@@ -184,8 +184,8 @@ def main(argv=None) -> int:
         env = dict(os.environ, NUMBA_CACHE_DIR=str(out / "numba-cache"))
         print("compiling the kernel into a fresh numba cache (about a minute) ...", file=sys.stderr, flush=True)
         cmd = [sys.executable, "-m", "benchmarks.profile_kernel", "--model", args.model,
-               "--seconds", str(args.seconds), "--driver", args.driver, "--child", str(out)] + (["--row", args.row] if args.row else []) \
-            + (["--physics", args.physics] if args.physics else [])
+               "--seconds", str(args.seconds), "--driver", args.driver, "--child", str(out)]
+        cmd += (["--row", args.row] if args.row else []) + (["--physics", args.physics] if args.physics else [])
         if subprocess.run(cmd, cwd=REPO, env=env).returncode != 0 or not (out / "kernel.o").exists():
             print("benchmarks.profile_kernel: compiling the kernel failed", file=sys.stderr)
             return 2

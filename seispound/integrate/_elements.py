@@ -87,7 +87,7 @@ def linear_bands(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p,
 @njit(cache=True)
 def linear_forces(KC, u, v, f):
     """f = K u + C v [N], shape (n,), from the bands of ``linear_bands``: the linear elements' springs and
-    dashpots and the mass-proportional damping (a banded product: a few times cheaper than the elements')."""
+    dashpots and the mass-proportional damping, as one banded product (cheaper than a loop over the elements)."""
     w = KC.shape[2]
     for i in range(f.size):
         f[i] = 0.0

@@ -720,9 +720,10 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     for q in range(nn):
         n_storeys += 0 if ne_gap[q] else 1
     # the work arrays: owned by this tuple (kept alive to the end), used through borrowed aliases
-    owners = (cache_A, cache_el, h_lev, LM, u, v, a, Vv, Av, R0, Du, work, flin, flin1, act, comp_off, Gm, Sm, ym, Fm, dl, rl, resv, kt, Aband, T, zt, xt, Wt, gpos, st_c, st_t, F,
-              F1, F_old, h_old, active, zeta, hsub, age, cur_imp, d0, r0, d1, r1, toggles, land_too, gk, g_t, g_1,
-              zero, u1, v1, a1, xs, ys, cst, actg, compg_off)
+    owners = (cache_A, cache_el, h_lev, LM, u, v, a, Vv, Av, R0, Du, work, flin, flin1, act, comp_off, Gm, Sm, ym,
+              Fm, dl, rl, resv, kt, Aband, T, zt, xt, Wt, gpos, st_c, st_t, F, F1, F_old, h_old, active, zeta, hsub,
+              age, cur_imp, d0, r0, d1, r1, toggles, land_too, gk, g_t, g_1, zero, u1, v1, a1, xs, ys, cst, actg,
+              compg_off)
     u1, v1, a1, xs, ys, cst = borrow(u1), borrow(v1), borrow(a1), borrow(xs), borrow(ys), borrow(cst)
     cache_A, cache_el = _borrow_cache(cache_A), _borrow_cache(cache_el)
     actg, compg_off, h_lev, LM = borrow(actg), borrow(compg_off), borrow(h_lev), borrow(LM)

@@ -55,7 +55,7 @@ def _impact(law, n: int, v0: float) -> tuple[float, float]:
     exactly dur / n in contact by the package's integrator."""
     from .contact._scalar import contact_duration
     from .integrate import integrate
-    from .model.analysis import Newmark
+    from .integrate.settings import Newmark
     from .structure import Building, Gap, assemble
     from .structure.building import NoDamping
 

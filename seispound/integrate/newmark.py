@@ -11,7 +11,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..errors import InputError
-from ..model.analysis import Newmark
+from .settings import Newmark
 from ..motion.spatial import ground_motion_integrals
 from . import _kernel as K
 from ..structure.band import bandwidth
@@ -390,7 +390,7 @@ def _catalogue(cap) -> dict:
 
 def _substeps(nm) -> int:
     """The contact substeps of ``nm``; unset (a model's are chosen by ``simulation.run_row``): the default."""
-    from ..model.analysis import DEFAULT_CONTACT_SUBSTEPS
+    from .settings import DEFAULT_CONTACT_SUBSTEPS
 
     return DEFAULT_CONTACT_SUBSTEPS if nm.contact_substeps is None else int(nm.contact_substeps)
 

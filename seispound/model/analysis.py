@@ -1,6 +1,8 @@
 """Analysis settings: the step, the duration and the time-integration scheme (plain data, no numba).
 
-The integrator (:mod:`seispound.integrate`) reads these; the model package never imports it.
+The integrator (:mod:`seispound.integrate`) reads these.  The Newmark settings are the
+integrator's own (:mod:`seispound.integrate.settings`, plain data like this module); the model
+package imports nothing else of it, so reading a model loads no numba.
 """
 
 from __future__ import annotations
@@ -9,63 +11,14 @@ import math
 from dataclasses import dataclass, field
 
 from ..errors import InputError
+from ..integrate.settings import DEFAULT_CONTACT_SUBSTEPS, Newmark
 
 __all__ = ["Analysis", "Newmark", "SCHEMES", "DEFAULT_CONTACT_SUBSTEPS", "DEFAULT_TOLERANCE"]
 
 #: time-integration schemes (``[analysis] scheme``)
 SCHEMES = ("exact", "newmark")
-#: contact substeps of a direct ``integrate`` call whose Newmark settings leave them unset
-DEFAULT_CONTACT_SUBSTEPS = 32
 #: relative error accepted on the peak pounding force and peak floor response when none is stated
 DEFAULT_TOLERANCE = 0.01
-
-
-@dataclass
-class Newmark:
-    """Newmark-beta settings.
-
-    Parameters
-    ----------
-    beta, gamma : float
-        Newmark parameters (default 1/4, 1/2: average acceleration,
-        unconditionally stable, no numerical damping; Newmark 1959).
-    contact_substeps : int or None
-        Substeps per estimated impact duration while a gap is closed.  None (the default of a
-        model file without ``[analysis] contact_substeps``): chosen for each run from the
-        analysis' ``tolerance`` (:mod:`seispound.accuracy`); a direct ``integrate`` call
-        takes DEFAULT_CONTACT_SUBSTEPS.
-    rtol : float
-        Newton residual tolerance relative to the largest force term.
-    max_iter : int
-        Newton iterations before the step is cut by 4.
-    """
-
-    beta: float = 0.25
-    gamma: float = 0.5
-    contact_substeps: int | None = None
-    rtol: float = 1e-10
-    max_iter: int = 30
-
-    def validate(self, key: str = "analysis.newmark") -> None:
-        for name in ("beta", "gamma", "rtol"):
-            val = getattr(self, name)
-            if not isinstance(val, (int, float)) or isinstance(val, bool) or not math.isfinite(val) or val <= 0:
-                raise InputError(f"must be a finite number > 0, got {val!r}", key=f"{key}.{name}")
-        if self.gamma < 0.5:
-            raise InputError(f"gamma < 1/2 gives negative numerical damping (unstable); got {self.gamma}",
-                             key=f"{key}.gamma")
-        for name in ("contact_substeps", "max_iter"):
-            val = getattr(self, name)
-            if val is None and name == "contact_substeps":
-                continue
-            if not isinstance(val, int) or isinstance(val, bool) or val < 1:
-                raise InputError(f"must be an integer >= 1, got {val!r}", key=f"{key}.{name}")
-
-    def stability_limit(self) -> float:
-        """Largest stable dt/T_n (inf if 2 beta >= gamma; Chopra Eq. 5.5.1 generalised)."""
-        if 2.0 * self.beta >= self.gamma:
-            return math.inf
-        return 1.0 / (math.pi * math.sqrt(2.0) * math.sqrt(self.gamma - 2.0 * self.beta))
 
 
 @dataclass

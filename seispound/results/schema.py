@@ -354,7 +354,7 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
 
 
 def _given(n):
-    from ..model.analysis import DEFAULT_CONTACT_SUBSTEPS
+    from ..integrate.settings import DEFAULT_CONTACT_SUBSTEPS
 
     return DEFAULT_CONTACT_SUBSTEPS if n is None else int(n)
 

@@ -16,7 +16,7 @@ from seispound import load_model
 from seispound.floor import RodFloor
 from seispound.foundation import Footing, Foundation, Soil
 from seispound.integrate import integrate
-from seispound.model.analysis import Newmark
+from seispound.integrate.settings import Newmark
 from seispound.simulation import newmark_substeps, run_inputs
 from seispound.storey import StoreyLaw
 

@@ -55,8 +55,9 @@ from ._elements import (_add_to_band, _dot, _scatter, assemble_band, kinetic_ene
 from ._events import LAND_TOL, _event_in_step
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
 from ._linear import _dense_solve, _factor_band, _solve_range
-from ..storey.codes import B_ALPHA, B_FY, B_K
-from ._material import ST_E, ST_PLASTIC, ST_ZETA, material_commit, material_energy, material_trial
+from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY
+from ._material import (ST_DELTA, ST_E, ST_EPS, ST_PLASTIC, ST_Z, ST_ZETA, bouc_wen_advance, material_commit,
+                        material_energy, material_trial)
 from ._outputs import (
     E_CONTACT,
     E_DAMPING,
@@ -496,6 +497,159 @@ def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs, ys, cst):
     return de
 
 
+# a free-flight step's Bouc-Wen terms: the fixed point stops when no term's rise moves by more than
+# BW_FLIGHT_TOL (1 - alpha) k dy, and is given up (the physical path takes the step) after BW_FLIGHT_ITER
+BW_FLIGHT_TOL = 1e-10
+MIDDLE = False
+BW_FLIGHT_ITER = 30
+# 3-point Gauss-Legendre on [0, 1] (exact for the quartic c(s) delta'(s) of the storey's work)
+_GL_T = (0.5 - 0.5 * 0.7745966692414834, 0.5, 0.5 + 0.5 * 0.7745966692414834)
+_GL_W = (5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0)
+
+
+@njit(cache=True)
+def _bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
+    """(z at the step's middle, z and eps at its end) of Bouc-Wen storey q along the deformation
+    delta(tau) = d0 + ca tau + cb tau^2 + cc tau^3, tau in [0, 1] (the step's Hermite cubic).
+
+    The law is rate independent, so z follows the path: ``bouc_wen_advance`` over its monotonic
+    pieces, split at the turning points (delta'(tau) = 0) and at the middle.
+    """
+    t_a, t_b = 2.0, 2.0  # the turning points in (0, 1), 2: none
+    qa, qb, qc = 3.0 * cc, 2.0 * cb, ca
+    if qa != 0.0:
+        disc = qb * qb - 4.0 * qa * qc
+        if disc > 0.0:
+            sq = np.sqrt(disc)
+            r1 = (-qb - sq) / (2.0 * qa)
+            r2 = (-qb + sq) / (2.0 * qa)
+            t_a, t_b = min(r1, r2), max(r1, r2)
+    elif qb != 0.0:
+        t_a = -qc / qb
+    if not 1e-9 < t_a < 1.0 - 1e-9:
+        t_a = 2.0
+    if not 1e-9 < t_b < 1.0 - 1e-9:
+        t_b = 2.0
+    s0, s1, s2 = min(t_a, t_b), max(t_a, t_b), (0.5 if MIDDLE else 2.0)  # sorted with the middle: s0 <= s1 <= s2
+    if MIDDLE and s1 > 0.5:
+        s1, s2 = 0.5, s1
+        if s0 > 0.5:
+            s0, s1 = 0.5, s0
+    zm = z
+    tp = 0.0
+    dp = d0
+    for i in range(4):
+        tb = s0 if i == 0 else (s1 if i == 1 else (s2 if i == 2 else 1.0))
+        if tb > 1.0 or tb <= tp:
+            continue
+        db = d0 + tb * (ca + tb * (cb + tb * cc))
+        z, eps, _ = bouc_wen_advance(par, q, z, eps, db - dp)
+        dp = db
+        tp = tb
+        if tb == 0.5:
+            zm = z
+    return zm, z, eps
+
+
+@njit(cache=True)
+def _bouc_wen_flight(ff, el, mat, u, v, u1, v1, a1, gs, gk, zero, h, rise, zs):
+    """Iterate the Bouc-Wen storeys' terms over a free-flight step; (converged, input work [J], storeys' work [J]).
+
+    A Bouc-Wen storey's force is k delta - c with c = (1 - alpha) k (delta - z) (``_material``): the
+    linear part holds k, and c is a load that changes within the step.  It is taken as the quadratic
+    through c0 (committed, ``cst``), c0 + dm at the middle and c0 + d1 at the end, whose response the
+    maps give (``transition._exact_maps``, columns gq); z follows the end state's Hermite cubic of each
+    storey's deformation (``_bouc_wen_path``), which gives new dm, d1: a fixed point, iterated until
+    no rise moves by more than BW_FLIGHT_TOL (1 - alpha) k dy (Gauss-Seidel over the storeys; the
+    contraction is about (1 - alpha) (omega h)^2 / 6 per sweep).  u1, v1, a1 (in: with c0 held) end
+    with the final terms; rise (2 ns) holds dm, d1 and zs (3 ns) z at the end, eps at the end, and the
+    storey's deformation at the end.  The storey's work int (k delta - c) d(delta) is exact for the
+    quadratic c and cubic delta (3-point Gauss-Legendre; derived here, not read from a source).
+    """
+    start, st_elem, st_start, gq, egq = ff[1], ff[10], ff[11], ff[14], ff[15]
+    ne_dof, ne_coef, ne_size, ne_code, ne_par, st_c, cst = el[0], el[1], el[2], mat[0], mat[1], mat[2], mat[3]
+    nm = gs.size // 2
+    o_q = 0
+    for c in range(start.size - 1):  # the first guess: each term rises as over the last step
+        a = start[c]
+        nb = start[c + 1] - a
+        for j in range(st_start[c], st_start[c + 1]):
+            if ne_code[st_elem[j]] != BOUC_WEN:
+                continue
+            dm, d1 = rise[2 * j], rise[2 * j + 1]
+            base = o_q + (j - st_start[c]) * 6 * nb
+            for r in range(nb):
+                u1[a + r] += gq[base + r] * dm + gq[base + 3 * nb + r] * d1
+                v1[a + r] += gq[base + nb + r] * dm + gq[base + 4 * nb + r] * d1
+                a1[a + r] += gq[base + 2 * nb + r] * dm + gq[base + 5 * nb + r] * d1
+        o_q += 6 * nb * (st_start[c + 1] - st_start[c])
+    for it in range(BW_FLIGHT_ITER + 1):
+        rise[rise.size - 1] = it + 1  # sweeps made (the driver's iteration count)
+        last = it == BW_FLIGHT_ITER
+        change = 0.0
+        o_q = 0
+        for c in range(start.size - 1):
+            a = start[c]
+            nb = start[c + 1] - a
+            for j in range(st_start[c], st_start[c + 1]):
+                q = st_elem[j]
+                if ne_code[q] != BOUC_WEN:
+                    continue
+                ds0, rs0 = _deformation(ne_dof, ne_coef, ne_size, q, u, zero, v, 0.0, gk, GU0)
+                ds1, rs1 = _deformation(ne_dof, ne_coef, ne_size, q, u1, zero, v1, 0.0, gk, GU1)
+                ca, cd = h * rs0, ds1 - ds0
+                cb = 3.0 * cd - 2.0 * ca - h * rs1
+                cc = ca + h * rs1 - 2.0 * cd
+                zm, z1, eps1 = _bouc_wen_path(ne_par, q, st_c[q, ST_Z], st_c[q, ST_EPS], ds0, ca, cb, cc)
+                dm_ = ds0 + 0.5 * ca + 0.25 * cb + 0.125 * cc
+                scale = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K]
+                ddm = (scale * (dm_ - zm) - cst[j] if MIDDLE else 0.5 * (scale * (ds1 - z1) - cst[j])) - rise[2 * j]
+                dd1 = scale * (ds1 - z1) - cst[j] - rise[2 * j + 1]
+                zs[3 * j], zs[3 * j + 1], zs[3 * j + 2] = z1, eps1, ds1
+                change = max(change, (abs(ddm) + abs(dd1)) / (scale * ne_par[q, BW_DY]))
+                if ddm == 0.0 and dd1 == 0.0:
+                    continue
+                rise[2 * j] += ddm
+                rise[2 * j + 1] += dd1
+                base = o_q + (j - st_start[c]) * 6 * nb
+                for r in range(nb):
+                    u1[a + r] += gq[base + r] * ddm + gq[base + 3 * nb + r] * dd1
+                    v1[a + r] += gq[base + nb + r] * ddm + gq[base + 4 * nb + r] * dd1
+                    a1[a + r] += gq[base + 2 * nb + r] * ddm + gq[base + 5 * nb + r] * dd1
+            o_q += 6 * nb * (st_start[c + 1] - st_start[c])
+        if change <= BW_FLIGHT_TOL:
+            break
+        if last:
+            return False, 0.0, 0.0
+    # the input work of the rises and the storeys' work along the final path
+    de = 0.0
+    dwh = 0.0
+    o_e = 0
+    for c in range(start.size - 1):
+        for j in range(st_start[c], st_start[c + 1]):
+            q = st_elem[j]
+            if ne_code[q] != BOUC_WEN:
+                continue
+            dm, d1 = rise[2 * j], rise[2 * j + 1]
+            base = o_e + (j - st_start[c]) * 4 * nm
+            for m in range(2 * nm):
+                de += gs[m] * (egq[base + m] * dm + egq[base + 2 * nm + m] * d1)
+            ds0, rs0 = _deformation(ne_dof, ne_coef, ne_size, q, u, zero, v, 0.0, gk, GU0)
+            ds1, rs1 = _deformation(ne_dof, ne_coef, ne_size, q, u1, zero, v1, 0.0, gk, GU1)
+            ca, cd = h * rs0, ds1 - ds0
+            cb = 3.0 * cd - 2.0 * ca - h * rs1
+            cc = ca + h * rs1 - 2.0 * cd
+            work_c = 0.0  # int c d(delta) = int_0^1 c(tau) delta'(tau) d tau
+            for g in range(3):
+                tau = _GL_T[g]
+                ct = cst[j] + (4.0 * dm - d1) * tau + (2.0 * d1 - 4.0 * dm) * tau * tau
+                work_c += _GL_W[g] * ct * (ca + tau * (2.0 * cb + 3.0 * cc * tau))
+            dwh += 0.5 * ne_par[q, B_K] * (ds1 * ds1 - ds0 * ds0) - work_c
+            zs[3 * j + 2] = ds1
+        o_e += 4 * nm * (st_start[c + 1] - st_start[c])
+    return True, de, dwh
+
+
 @njit(cache=True, inline="always")
 def _screen(ne_gap, active, d0, r0, d1, r1, h, landed, target, land_too):
     """The first event of any gap in a trial step: (theta, gap, n_land) (theta 2: none).
@@ -526,35 +680,48 @@ def _screen(ne_gap, active, d0, r0, d1, r1, h, landed, target, land_too):
 @njit(cache=True, inline="always")
 def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1, gk, state, gaps, mat, umax):
     """The analysis step ending at t_end in free flight (``_free_flight_trial``), accepted if no gap
-    touches and no bilinear storey leaves its elastic range in it.
+    touches, no bilinear storey leaves its elastic range in it and the Bouc-Wen storeys' terms
+    converge (``_bouc_wen_flight``).
 
     el = (ne_dof, ne_coef, ne_size, ne_gap); state = (u, v, a, u1, v1, a1, xs, ys, zero); gaps = (d0, r0,
-    d1, r1, land_too); mat = (ne_code, ne_par, st_c, st_t, F, fmax, cst).  Returns (accepted, input
-    work [J], work of the linear elements and dampers [J], work on the storeys [J]); the storeys'
-    exactly (an elastic storey's force is linear in its deformation), the linear elements' from the
-    balance, input = kinetic + the two, as nothing else acts (``transition.py``).  Not accepted,
-    nothing but the trial arrays changed.
+    d1, r1, land_too); mat = (ne_code, ne_par, st_c, st_t, F, fmax, cst, rise, zs).  Returns (accepted,
+    input work [J], work of the linear elements and dampers [J], work on the storeys [J]); the
+    bilinear storeys' exactly (an elastic storey's force is linear in its deformation), the Bouc-Wen
+    storeys' along their path, the linear elements' from the balance, input = kinetic + the two, as
+    nothing else acts (``transition.py``).  Not accepted, nothing but the trial arrays changed.
     """
     ne_dof, ne_coef, ne_size, ne_gap = el
     u, v, a, u1, v1, a1, xs, ys, zero = state
     d0, r0, d1, r1, land_too = gaps
-    ne_code, ne_par, st_c, st_t, F, fmax, cst = mat
+    ne_code, ne_par, st_c, st_t, F, fmax, cst, rise, zs = mat
     st_elem = ff[10]
     for j in range(st_elem.size):  # F = k delta - c: c = (1 - alpha) k delta_p, fixed while elastic
         q = st_elem[j]
-        cst[j] = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * st_c[q, ST_PLASTIC]
+        if ne_code[q] == BOUC_WEN:  # c = (1 - alpha) k (delta - z) at the step's start
+            cst[j] = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * (st_c[q, ST_DELTA] - st_c[q, ST_Z])
+        else:
+            cst[j] = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * st_c[q, ST_PLASTIC]
     _ground_all(ag, t_end, dt, g_1)
     de = _free_flight_trial(ff, u, v, g_t, g_1, u1, v1, a1, xs, ys, cst)
     if moving:
         _gap_ground_all(ne_ground, t_end, dt, gk, GU1)
+    dwh = 0.0
+    if ff[16]:  # Bouc-Wen storeys: their terms within the step
+        ok, de_bw, dwh = _bouc_wen_flight(ff, el, (ne_code, ne_par, st_c, cst), u, v, u1, v1, a1,
+                                          xs[xs.size - 2 * g_t.size:], gk, zero, dt, rise, zs)
+        if not ok:
+            return False, 0.0, 0.0, 0.0
+        de += de_bw
     for q in range(ne_gap.size):
         if ne_gap[q]:
             d1[q], r1[q] = _deformation(ne_dof, ne_coef, ne_size, q, u1, zero, v1, 0.0, gk, GU1)
     if _screen(ne_gap, active, d0, r0, d1, r1, dt, False, -1, land_too)[1] >= 0:
         return False, 0.0, 0.0, 0.0
-    dwh = 0.0
-    for j in range(st_elem.size):  # each storey within its elastic range over the whole step?
+    for j in range(st_elem.size):  # each bilinear storey within its elastic range over the whole step?
         q = st_elem[j]
+        if ne_code[q] == BOUC_WEN:
+            d1[q] = zs[3 * j + 2]
+            continue
         k = ne_par[q, B_K]
         hi = st_c[q, ST_PLASTIC] + ne_par[q, B_FY] / k
         lo = st_c[q, ST_PLASTIC] - ne_par[q, B_FY] / k
@@ -581,7 +748,13 @@ def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1
     for j in range(st_elem.size):  # the storeys' state at the step's end (elastic: delta_p kept)
         q = st_elem[j]
         d0[q] = d1[q]  # (the output's recoverable energy reads the storeys' deformations here)
-        F[q] = material_trial(ne_code[q], ne_par, st_c, st_t, q, d1[q], r1[q])[0]
+        if ne_code[q] == BOUC_WEN:  # the state its path reached
+            for c in range(st_c.shape[1]):
+                st_t[q, c] = st_c[q, c]
+            st_t[q, ST_Z], st_t[q, ST_EPS], st_t[q, ST_DELTA] = zs[3 * j], zs[3 * j + 1], d1[q]
+            F[q] = ne_par[q, B_K] * d1[q] - (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * (d1[q] - zs[3 * j])
+        else:
+            F[q] = material_trial(ne_code[q], ne_par, st_c, st_t, q, d1[q], r1[q])[0]
         material_commit(st_c, st_t, q)
         fmax[q] = max(fmax[q], abs(F[q]))
     for r in range(g_t.size):
@@ -623,11 +796,12 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     flags = (ff, el_pred).  el_pred: every storey is bilinear, and a physical step first tries them at their
     elastic stiffness in the linear part (Newton on the closed gaps alone), kept if every storey ends
     the step elastic.
-    ff = (on, start, off_x, off_g, off_e, phi, G0, G1, Egx, Egg, st_elem, st_start, Gc, Egc): while every
-    gap is open (and every storey, if any, is bilinear: ``on`` says so) an analysis step is one map
-    per building (``transition.py``: exact, or the same Newmark substeps composed), screened for gap
-    events and for storeys leaving their elastic range; on False, or when the screen finds an event,
-    the step is taken on the physical path.
+    ff = (on, start, off_x, off_g, off_e, phi, G0, G1, Egx, Egg, st_elem, st_start, Gc, Egc, Gq, Egq, bw):
+    while every gap is open (and every storey, if any, is bilinear or, with ``bw``, Bouc-Wen: ``on``
+    says so) an analysis step is one map per building (``transition.py``: exact, or the same Newmark
+    substeps composed), screened for gap events and for bilinear storeys leaving their elastic
+    range, the Bouc-Wen storeys' terms iterated within it (``_bouc_wen_flight``); on False, or when
+    the screen finds an event, the step is taken on the physical path.
     """
     # arguments: alive for the whole call, so borrowed (``_borrow``: no reference counting in the loop)
     ms_dof, ms_coef, ms_val, ms_a0 = borrow(ms_dof), borrow(ms_coef), borrow(ms_val), borrow(ms_a0)
@@ -642,7 +816,8 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     imp_fmax, imp_dur, imp_zeta, imp_e = borrow(imp_fmax), borrow(imp_dur), borrow(imp_zeta), borrow(imp_e)
     ff, el_pred = flags
     ff = (ff[0], borrow(ff[1]), borrow(ff[2]), borrow(ff[3]), borrow(ff[4]), borrow(ff[5]), borrow(ff[6]),
-          borrow(ff[7]), borrow(ff[8]), borrow(ff[9]), borrow(ff[10]), borrow(ff[11]), borrow(ff[12]), borrow(ff[13]))
+          borrow(ff[7]), borrow(ff[8]), borrow(ff[9]), borrow(ff[10]), borrow(ff[11]), borrow(ff[12]), borrow(ff[13]),
+          borrow(ff[14]), borrow(ff[15]), ff[16])
     n = u_init.size
     nn = ne_size.size
     nm = ag.shape[0]
@@ -716,6 +891,8 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     xs = np.empty(2 * n + 2 * nm)
     ys = np.empty(3 * n)
     cst = np.empty(max(ff[10].size, 1))
+    rise = np.zeros(2 * max(ff[10].size, 1) + 1)  # the Bouc-Wen storeys' terms within a free-flight step, sweeps
+    zs = np.empty(3 * max(ff[10].size, 1))
     n_storeys = 0
     for q in range(nn):
         n_storeys += 0 if ne_gap[q] else 1
@@ -723,8 +900,9 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     owners = (cache_A, cache_el, h_lev, LM, u, v, a, Vv, Av, R0, Du, work, flin, flin1, act, comp_off, Gm, Sm, ym,
               Fm, dl, rl, resv, kt, Aband, T, zt, xt, Wt, gpos, st_c, st_t, F, F1, F_old, h_old, active, zeta, hsub,
               age, cur_imp, d0, r0, d1, r1, toggles, land_too, gk, g_t, g_1, zero, u1, v1, a1, xs, ys, cst, actg,
-              compg_off)
+              compg_off, rise, zs)
     u1, v1, a1, xs, ys, cst = borrow(u1), borrow(v1), borrow(a1), borrow(xs), borrow(ys), borrow(cst)
+    rise, zs = borrow(rise), borrow(zs)
     cache_A, cache_el = _borrow_cache(cache_A), _borrow_cache(cache_el)
     actg, compg_off, h_lev, LM = borrow(actg), borrow(compg_off), borrow(h_lev), borrow(LM)
     u, v, a, Vv, Av, R0, Du = borrow(u), borrow(v), borrow(a), borrow(Vv), borrow(Av), borrow(R0), borrow(Du)
@@ -792,7 +970,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
             # ---- FREE FLIGHT: the whole analysis step by each building's linear map, if no gap event is in it
             ok, de, dw, dwh = _free_flight(ff, t_end, dt, ag, ne_ground, moving, (ne_dof, ne_coef, ne_size, ne_gap),
                                            active, lin, g_t, g_1, gk, (u, v, a, u1, v1, a1, xs, ys, zero),
-                                           (d0, r0, d1, r1, land_too), (ne_code, ne_par, st_c, st_t, F, fmax, cst),
+                                           (d0, r0, d1, r1, land_too), (ne_code, ne_par, st_c, st_t, F, fmax, cst, rise, zs),
                                            umax)
             if ok:
                 t = t_end
@@ -801,6 +979,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
                 w_lin += dw
                 w_hys += dwh
                 stats[S_FREE_FLIGHT] += 1
+                stats[S_ITERATIONS] += int(rise[rise.size - 1])  # the Bouc-Wen terms' sweeps (0 without)
                 stats[S_STEPS] += 1
                 stats[S_DOF_STEPS] += n
                 step += 1

@@ -134,15 +134,29 @@ def _bouc_wen_trial(par, committed, trial, q, delta):
     """Force and tangent of a Bouc-Wen storey at a trial deformation ``delta`` [m].
 
     F = alpha k delta + (1 - alpha) k z (the issue's form of Wen 1976 with
-    A = 1: z is a displacement bounded by dy for beta + gamma = 1).  z is
-    carried from the committed deformation over sub-increments of at most
-    BW_SUBINCREMENT dy, each by the implicit trapezoidal rule
-    z1 = z0 + d/2 (Phi(z0) + Phi(z1)), solved by Newton; the tangent is the
-    derivative of that map (chain rule over the sub-increments), so the
-    driver's Newton converges quadratically.  Phi and its derivative at the
-    end of a sub-increment are those of Newton's last iterate, which the last
-    correction moved by at most 1e-15 dy; they serve the tangent and the next
-    sub-increment's start (one ``pow`` per iterate, none recomputed).
+    A = 1: z is a displacement bounded by dy for beta + gamma = 1); z carried
+    from the committed deformation by :func:`bouc_wen_advance`, whose tangent
+    dz/d(delta) makes the driver's Newton converge quadratically.
+    """
+    k = par[q, BW_K]
+    alpha = par[q, BW_ALPHA]
+    z, eps, dz = bouc_wen_advance(par, q, committed[q, ST_Z], committed[q, ST_EPS], delta - committed[q, ST_DELTA])
+    trial[q, ST_Z] = z
+    trial[q, ST_DELTA] = delta
+    trial[q, ST_EPS] = eps
+    return alpha * k * delta + (1.0 - alpha) * k * z, alpha * k + (1.0 - alpha) * k * dz, 0.0
+
+
+@njit(cache=True, inline="always")
+def bouc_wen_advance(par, q, z, eps, total):
+    """(z, eps, dz/d(total)) of Bouc-Wen storey q after its deformation moves monotonically by ``total`` [m].
+
+    z [m] is carried over sub-increments of at most BW_SUBINCREMENT dy, each by the implicit
+    trapezoidal rule z1 = z0 + d/2 (Phi(z0) + Phi(z1)), solved by Newton; the tangent is the
+    derivative of that map (chain rule over the sub-increments).  Phi and its derivative at the
+    end of a sub-increment are those of Newton's last iterate, which the last correction moved
+    by at most 1e-15 dy; they serve the tangent and the next sub-increment's start (one ``pow``
+    per iterate, none recomputed).
 
     Degradation (Baber & Wen 1981, J. Eng. Mech. Div. 107(6) 1069-1087, Eqs. 5-6):
     nu = 1 + delta_nu eps and eta = 1 + delta_eta eps grow with the hysteretic
@@ -151,20 +165,16 @@ def _bouc_wen_trial(par, committed, trial, q, delta):
     the start of each sub-increment, eps advanced by the trapezoidal rule after
     it; the tangent leaves out eps's own dependence on the step (a first-order
     term of one sub-increment), so with degradation Newton converges linearly.
+    The law is rate independent: only the path of the deformation matters.
     """
-    k = par[q, BW_K]
     dy = par[q, BW_DY]
-    alpha = par[q, BW_ALPHA]
     n = par[q, BW_N]
     beta = par[q, BW_BETA]
     gamma = par[q, BW_GAMMA]
     dnu = par[q, BW_DNU]
     deta = par[q, BW_DETA]
-    total = delta - committed[q, ST_DELTA]
     n_sub = min(BW_MAX_SUB, 1 + int(abs(total) / (BW_SUBINCREMENT * dy)))
     d = total / n_sub
-    z = committed[q, ST_Z]
-    eps = committed[q, ST_EPS]
     dz = 0.0  # dz/d(total)
     xn, dxn = _bouc_wen_power(z, dy, n)
     for _ in range(n_sub):
@@ -183,10 +193,7 @@ def _bouc_wen_trial(par, committed, trial, q, delta):
         dz = (dz * (1.0 + 0.5 * d * dphi0) + 0.5 * (phi0 + phi1) / n_sub) / (1.0 - 0.5 * d * dphi1)
         eps += 0.5 * (z + z1) * d / (dy * dy)
         z = z1
-    trial[q, ST_Z] = z
-    trial[q, ST_DELTA] = delta
-    trial[q, ST_EPS] = eps
-    return alpha * k * delta + (1.0 - alpha) * k * z, alpha * k + (1.0 - alpha) * k * dz, 0.0
+    return z, eps, dz
 
 
 @njit(cache=True)

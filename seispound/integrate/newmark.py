@@ -172,7 +172,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
               free_flight: bool = True, multirate: bool = True, wait_share: float = WAIT_SHARE,
               scheme: str = "exact", driver: str = "auto", tangent: bool = True,
               substeps: int | None = None, contact_step: float = math.inf,
-              elastic_predictor: bool = True) -> RawResult:
+              elastic_predictor: bool = True, hysteretic_flight: bool = True) -> RawResult:
     """Integrate a row of buildings under one (or one per DOF group) ground motion.
 
     Parameters
@@ -239,6 +239,12 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         when every storey ends the step elastic (default); False: the storeys always in the Newton
         iteration.  The two agree to the Newton tolerance ``rtol`` (amplified by pounding's
         sensitivity to where an impact lands), the off switch the tests compare against.
+    hysteretic_flight : bool
+        General driver, exact scheme, Bouc-Wen storeys (with or without bilinear ones): while every
+        gap is open an analysis step is one exact map with each Bouc-Wen storey's offset force
+        iterated within it (``_general._bouc_wen_flight``; default).  False: those rows take their
+        physical path (Newmark substeps) throughout, the reference the tests compare against (the
+        two differ by the physical path's time-discretisation error).
     tangent : bool
         General driver: the Newton iteration of a group that holds storeys
         with history runs on the banded tangent stiffness (default;
@@ -260,7 +266,8 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     if driver == "general" or (driver == "auto" and general_driver_needed(system, scheme)):
         _check_scheme(scheme)
         return _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capacity, store_history,
-                                  tangent, substeps, contact_step, free_flight, scheme, elastic_predictor)
+                                  tangent, substeps, contact_step, free_flight, scheme, elastic_predictor,
+                                  hysteretic_flight)
     _check_scheme(scheme)
     if not 0.0 <= wait_share <= 1.0:
         raise ValueError(f"wait_share must lie in [0, 1], got {wait_share!r}")
@@ -445,7 +452,7 @@ def _element_ranges(tab, n):
 
 def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capacity, store_history,
                        tangent=True, substeps=None, contact_step=math.inf, free_flight=True,
-                       scheme="exact", elastic_predictor=True) -> RawResult:
+                       scheme="exact", elastic_predictor=True, hysteretic_flight=True) -> RawResult:
     """``integrate`` on the general driver (``_general.py``): every law through the material protocol, Newmark
     steps, and the analysis steps with no element active in free flight (``transition.py``) where valid."""
     from . import _general as G
@@ -474,18 +481,23 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     ne_lo, ne_hi = _element_ranges(tab, n)
     p_tangent = max(int(tab["p"]), bandwidth(n, tab["ne_dof"][~ne_gap]))  # the band with the storeys in it
     lev_free = int(round(math.log2(substeps))) if substeps else 0
-    from ..storey.codes import BILINEAR
+    from ..storey.codes import BILINEAR, BOUC_WEN
 
     storeys = ~ne_gap
-    bilinear = bool(np.all(tab["ne_code"][storeys] == BILINEAR))  # every storey piecewise linear (or none)
-    ff = (_free_flight_maps(system, tab, ag.shape[0], dt, nm, scheme, 2 ** lev_free)
-          if free_flight and bilinear else None)
+    codes = tab["ne_code"][storeys]
+    bilinear = bool(np.all(codes == BILINEAR))  # every storey piecewise linear (or none)
+    # Bouc-Wen storeys fly free with their terms iterated within the step (exact scheme only: the Newmark
+    # scheme's free flight must equal its physical path to round-off, the off switch's comparison)
+    bouc_wen = bool(np.any(codes == BOUC_WEN) and np.all((codes == BILINEAR) | (codes == BOUC_WEN))
+                    and scheme == "exact" and hysteretic_flight)
+    ff = (_free_flight_maps(system, tab, ag.shape[0], dt, nm, scheme, 2 ** lev_free, bouc_wen)
+          if free_flight and (bilinear or bouc_wen) else None)
     el_pred = bool(elastic_predictor and storeys.any() and bilinear)
     i0 = np.zeros(1, np.int64)
     ff_args = ((True, ff.start, ff.off_x, ff.off_g, ff.off_e, ff.phi, ff.g0, ff.g1, ff.egx, ff.egg, ff.st_elem,
-                ff.st_start, ff.gc, ff.egc) if ff is not None
+                ff.st_start, ff.gc, ff.egc, ff.gq, ff.egq, bouc_wen) if ff is not None
                else (False, i0, i0, i0, i0, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 0)),
-                     np.zeros(0, np.int64), i0, np.zeros(0), np.zeros(0)))
+                     np.zeros(0, np.int64), i0, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), False))
 
     def run(cap):
         out = dict(out_u=np.zeros((nt, n)), out_v=np.zeros((nt, n)), out_a=np.zeros((nt, n)),
@@ -530,7 +542,7 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
                      scheme=scheme if ff is not None else "newmark")
 
 
-def _free_flight_maps(system, tab, nm_rows, dt, nm, scheme, substeps):
+def _free_flight_maps(system, tab, nm_rows, dt, nm, scheme, substeps, quadratic=False):
     """The general driver's free-flight maps (``transition.Transition``), or None where they do not apply.
 
     The caller has checked that the elements with state are gaps and bilinear storeys (piecewise
@@ -545,7 +557,7 @@ def _free_flight_maps(system, tab, nm_rows, dt, nm, scheme, substeps):
     dof_motion = np.asarray(system.dof_motion, np.int64)
     # kept per content: a run's no-pounding twin, the tolerance's check and a study's runs share the row's
     # linear part, and the matrix exponentials cost about a millisecond per building
-    h = hashlib.blake2b(repr((nm_rows, float(dt), scheme, nm.beta, nm.gamma, substeps)).encode())
+    h = hashlib.blake2b(repr((nm_rows, float(dt), scheme, nm.beta, nm.gamma, substeps, quadratic)).encode())
     for k in ("ms_dof", "ms_coef", "ms_val", "ms_a0", "le_dof", "le_coef", "le_k", "le_c", "dof_load"):
         h.update(np.ascontiguousarray(tab[k]).tobytes())
     for k in ("ne_dof", "ne_coef", "ne_par"):  # the storeys (not the gaps: a run and its twin share the maps)
@@ -556,7 +568,7 @@ def _free_flight_maps(system, tab, nm_rows, dt, nm, scheme, substeps):
         if len(_TRANSITIONS) >= 32:
             _TRANSITIONS.pop(next(iter(_TRANSITIONS)))
         _TRANSITIONS[key] = transition(tab, system.matrices(), dof_motion, nm_rows, dt, scheme, nm.beta,
-                                       nm.gamma, substeps)
+                                       nm.gamma, substeps, quadratic)
     return _TRANSITIONS[key]
 
 

@@ -94,6 +94,9 @@ class Transition:
     gc : (sum 3 n_c ns_c,) float [m/N, m/(N s), m/(N s^2)]  per storey (rows) its column of the end
         state for a unit constant term c_q [N] (storey-major: one contiguous row per storey)
     egc : (sum 2 nm ns_c,) float [s]  per storey its input work per unit c_q and ground acceleration
+    gq : (sum 6 n_c ns_c,) float  per storey two such columns, for its term's rise dm [N] to the step's middle
+        and d1 [N] to its end (a quadratic in time, ``_exact_maps``); zeros unless ``quadratic``
+    egq : (sum 4 nm ns_c,) float [s]  per storey the input work of dm and d1, as egc
     """
 
     start: np.ndarray
@@ -109,6 +112,8 @@ class Transition:
     st_start: np.ndarray
     gc: np.ndarray
     egc: np.ndarray
+    gq: np.ndarray
+    egq: np.ndarray
 
 
 def components(tab: dict, n: int) -> np.ndarray:
@@ -146,7 +151,8 @@ def blocks_of(tab: dict, n: int) -> np.ndarray | None:
 
 
 def transition(tab: dict, matrices: tuple, dof_motion: np.ndarray, nm: int, dt: float, scheme: str,
-               beta: float = 0.25, gamma: float = 0.5, substeps: int = 1) -> Transition | None:
+               beta: float = 0.25, gamma: float = 0.5, substeps: int = 1,
+               quadratic: bool = False) -> Transition | None:
     """The per-building maps of one analysis step ``dt`` [s] (module docstring), or None where not valid.
 
     ``tab``: ``SystemArrays.element_tables()`` of a row whose elements with state are gaps and
@@ -154,7 +160,8 @@ def transition(tab: dict, matrices: tuple, dof_motion: np.ndarray, nm: int, dt: 
     initial (elastic) stiffness (``SystemArrays.matrices``); ``dof_motion`` (n,) the motion row of
     each DOF;
     ``scheme`` "exact" or "newmark" (``beta``, ``gamma``, ``substeps`` Newmark steps per analysis
-    step).
+    step); ``quadratic``: the storeys' terms may vary quadratically within the step (``gq``, ``egq``;
+    Bouc-Wen storeys, exact scheme).
     """
     global _BLAS
     n = matrices[0].shape[0]
@@ -168,13 +175,13 @@ def transition(tab: dict, matrices: tuple, dof_motion: np.ndarray, nm: int, dt: 
 
         _BLAS = ThreadpoolController()  # (finding the libraries is the slow part: once)
     with _BLAS.limit(limits=1, user_api="blas"):
-        return _transition(tab, matrices, start, dof_motion, nm, dt, scheme, beta, gamma, substeps)
+        return _transition(tab, matrices, start, dof_motion, nm, dt, scheme, beta, gamma, substeps, quadratic)
 
 
 _BLAS = None  # threadpoolctl's view of the loaded BLAS libraries
 
 
-def _transition(tab, matrices, start, dof_motion, nm, dt, scheme, beta, gamma, substeps):
+def _transition(tab, matrices, start, dof_motion, nm, dt, scheme, beta, gamma, substeps, quadratic):
     M, C, K = (np.array(x, float) for x in matrices)
     n = M.shape[0]
     L = np.zeros((n, nm))
@@ -184,22 +191,27 @@ def _transition(tab, matrices, start, dof_motion, nm, dt, scheme, beta, gamma, s
     for j, q in enumerate(storeys):
         used = tab["ne_dof"][q] >= 0
         R[tab["ne_dof"][q][used], j] = tab["ne_coef"][q][used]
-    phi, g0, g1, egx, gc, egc, st_elem, st_start = [], [], [], [], [], [], [], [0]
+    phi, g0, g1, egx, gc, egc, gq, egq, st_elem, st_start = [], [], [], [], [], [], [], [], [], [0]
     egg = np.zeros((2 * nm, 2 * nm))
     for a, b in zip(start[:-1], start[1:]):
         s = slice(a, b)
         mine = np.flatnonzero(np.any(R[s] != 0.0, axis=0))
         Mb, Cb, Kb, Lb, Rb = M[s, s], C[s, s], K[s, s], L[s], R[s][:, mine]
-        P, G0, G1, Gc, Egx, Egg, Egc = (_exact_maps if scheme == "exact" else _newmark_maps)(
-            Mb, Cb, Kb, Lb, Rb, dt, beta, gamma, substeps)
-        if not all(np.all(np.isfinite(x)) for x in (P, G0, G1, Gc, Egx, Egg, Egc)):
+        P, G0, G1, Gc, Gq, Egx, Egg, Egc, Egq = (_exact_maps if scheme == "exact" else _newmark_maps)(
+            Mb, Cb, Kb, Lb, Rb, dt, beta, gamma, substeps, quadratic)
+        if not all(np.all(np.isfinite(x)) for x in (P, G0, G1, Gc, Gq, Egx, Egg, Egc, Egq)):
             return None
         # the accelerations from equilibrium at the step's end: a1 = M^-1 (-[K C] x1 - L g1 + R c)
         KC = np.linalg.solve(Mb, np.hstack([Kb, Cb]))
         P, G0 = np.vstack([P, -KC @ P]), np.vstack([G0, -KC @ G0])
         G1 = np.vstack([G1, -KC @ G1 - np.linalg.solve(Mb, Lb)])
         Gc = np.vstack([Gc, -KC @ Gc + np.linalg.solve(Mb, Rb)])
-        for lst, x in zip((phi, g0, g1, egx, gc, egc), (P, G0, G1, Egx, Gc.T, Egc.T)):
+        # the load at the step's end is R (c0 + d1): the d1 columns carry R too, the dm columns none
+        Gq = np.vstack([Gq, -KC @ Gq + np.hstack([np.zeros_like(Rb), np.linalg.solve(Mb, Rb)])])
+        ns = Rb.shape[1]  # per storey: its dm column then its d1 column (storey-major)
+        Gq_t = np.stack([Gq[:, :ns].T, Gq[:, ns:].T], axis=1)  # (ns, 2, 3 nb)
+        Egq_t = np.stack([Egq[:, :ns].T, Egq[:, ns:].T], axis=1)  # (ns, 2, 2 nm)
+        for lst, x in zip((phi, g0, g1, egx, gc, egc, gq, egq), (P, G0, G1, Egx, Gc.T, Egc.T, Gq_t, Egq_t)):
             lst.append(np.ascontiguousarray(x).ravel())
         egg += Egg
         st_elem.extend(storeys[mine])
@@ -213,7 +225,8 @@ def _transition(tab, matrices, start, dof_motion, nm, dt, scheme, beta, gamma, s
                       off_e=offsets(4 * sizes * nm), phi=np.concatenate(phi), g0=np.concatenate(g0),
                       g1=np.concatenate(g1), egx=np.concatenate(egx), egg=egg,
                       st_elem=np.asarray(st_elem, np.int64), st_start=np.asarray(st_start, np.int64),
-                      gc=np.concatenate(gc), egc=np.concatenate(egc))
+                      gc=np.concatenate(gc), egc=np.concatenate(egc), gq=np.concatenate(gq),
+                      egq=np.concatenate(egq))
 
 
 def _split(Q, nx, nm):
@@ -224,14 +237,19 @@ def _split(Q, nx, nm):
     return 2.0 * Qs[g, :nx], Qs[g, g], 2.0 * Qs[g, nx + 2 * nm:]
 
 
-def _exact_maps(M, C, K, L, R, h, beta, gamma, substeps):
-    """Phi, G0, G1, Gc, Egx, Egg, Egc of the exact step.
+def _exact_maps(M, C, K, L, R, h, beta, gamma, substeps, quadratic=False):
+    """Phi, G0, G1, Gc, Gq, Egx, Egg, Egc, Egq of the exact step.
 
-    R (nb, ns): constant loads R c held over the step (bilinear storeys' constant terms).
+    R (nb, ns): loads R c(s) on the building, c held constant over the step (bilinear storeys'
+    constant terms), or with ``quadratic`` the quadratic through c0, c0 + dm and c0 + d1 at the
+    step's start, middle and end (a Bouc-Wen storey's offset force, ``_general._free_flight``):
+    c(s) = c0 + (4 dm - d1) s / h + (2 d1 - 4 dm) s^2 / h^2.  Gc, Egc: the columns of c0; Gq
+    (nx, 2 ns), Egq (2 nm, 2 ns): those of [dm; d1] (zeros without ``quadratic``).
 
-    The state w = [x; g; g'; c] (the ground acceleration, its slope and the constant terms
-    augmented) obeys w' = F w, so w(s) = e^(F s) w0 (Van Loan 1978, Sec. 1).  The input work
-    -int_0^h g(s)^T L^T v(s) ds has g(s) = g0 + s g' exactly, so it is bilinear in w0:
+    The state w = [x; g; g'; l; l'; l''/2] (the ground acceleration, its slope, and the load's
+    value, slope and half curvature augmented) obeys w' = F w, so w(s) = e^(F s) w0 (Van Loan
+    1978, Sec. 1).  The input work -int_0^h g(s)^T L^T v(s) ds has g(s) = g0 + s g' exactly, so
+    it is bilinear in w0:
 
         W = w0^T [S_g^T (-L^T) S_v J0 + S_s^T (-L^T) S_v J1] w0,
         J0 = int_0^h e^(F s) ds,   J1 = int_0^h s e^(F s) ds,
@@ -240,24 +258,28 @@ def _exact_maps(M, C, K, L, R, h, beta, gamma, substeps):
     needed, and one exponential of B = [[F^T, -S_v^T L, 0], [0, 0, I], [0, 0, 0]] gives them with
     e^(F h): its blocks (1, 2) and (1, 3) are J0^T (-S_v^T L) and (h J0 - J1)^T (-S_v^T L), since
     the (1, 3) block is int_0^h e^(F^T (h - s)) s ds times the border (Van Loan 1978, Thm. 1; the
-    reduction to J0, J1 derived here).  Only decaying exponentials appear (F^T has F's
-    eigenvalues), never e^(-F^T s): a mode damped by e^-100 per step is as well conditioned as an
-    undamped one (soil cones' dashpots), and B is only 2 nm larger than F.
+    reduction to J0, J1 and the load's augmentation derived here).  Only decaying exponentials
+    appear (F^T has F's eigenvalues and the augmented blocks' zeros), never e^(-F^T s): a mode
+    damped by e^-100 per step is as well conditioned as an undamped one (soil cones' dashpots).
     """
     nb, nm = L.shape
     ns = R.shape[1]
+    nl = 3 * ns if quadratic else ns
     nx = 2 * nb
     Minv = np.linalg.inv(M)
-    # w = [x; g; g'; c]: the ground acceleration, its slope and the constant terms
+    # w = [x; g; g'; l (; l'; l''/2)]
     ig, islope, ic = nx, nx + nm, nx + 2 * nm
-    nw = ic + ns
+    nw = ic + nl
     F = np.zeros((nw, nw))
     F[:nb, nb:nx] = np.eye(nb)
     F[nb:nx, :nb] = -Minv @ K
     F[nb:nx, nb:nx] = -Minv @ C
     F[nb:nx, ig:islope] = -Minv @ L
-    F[nb:nx, ic:] = Minv @ R
+    F[nb:nx, ic:ic + ns] = Minv @ R
     F[ig:islope, islope:ic] = np.eye(nm)
+    if quadratic:  # l' = l', (l')' = 2 (l''/2)
+        F[ic:ic + ns, ic + ns:ic + 2 * ns] = np.eye(ns)
+        F[ic + ns:ic + 2 * ns, ic + 2 * ns:] = 2.0 * np.eye(ns)
     # the rows (-L^T S_v) J0 and (-L^T S_v) J1, transposed: blocks of the exponential of F^T bordered by
     # -S_v^T L and an identity (nw + 2 nm square: about the cost of e^(F h) alone)
     LSv = np.zeros((nm, nw))
@@ -272,17 +294,25 @@ def _exact_maps(M, C, K, L, R, h, beta, gamma, substeps):
     Qw = np.zeros((nw, nw))
     Qw[ig:islope] = A0
     Qw[islope:ic] = h * A0 - E[:nw, nw + nm:].T  # (-L^T S_v) J1 = h (...) J0 - (...) int e^(F (h - s)) s ds
-    # w0 = T z, z = [x0; g0; g1; c]: the slope is (g1 - g0) / h
+    # w0 = T z, z = [x0; g0; g1; c0 (; dm; d1)]: the slope is (g1 - g0) / h, the load's terms as above
     T = np.eye(nw)
     T[islope:ic, ig:islope] = -np.eye(nm) / h
     T[islope:ic, islope:ic] = np.eye(nm) / h
+    if quadratic:
+        dm, d1 = slice(ic + ns, ic + 2 * ns), slice(ic + 2 * ns, nw)
+        T[dm, dm], T[dm, d1] = 4.0 * np.eye(ns) / h, -np.eye(ns) / h
+        T[d1, dm], T[d1, d1] = -4.0 * np.eye(ns) / h**2, 2.0 * np.eye(ns) / h**2
     X = E22[:nx] @ T
-    egx, egg, egc = _split(T.T @ Qw @ T, nx, nm)
-    return X[:, :nx], X[:, ig:islope], X[:, islope:ic], X[:, ic:], egx, egg, egc
+    egx, egg, egl = _split(T.T @ Qw @ T, nx, nm)
+    Gq = X[:, ic + ns:] if quadratic else np.zeros((nx, 2 * ns))
+    Egq = egl[:, ns:] if quadratic else np.zeros((2 * nm, 2 * ns))
+    return X[:, :nx], X[:, ig:islope], X[:, islope:ic], X[:, ic:ic + ns], Gq, egx, egg, egl[:, :ns], Egq
 
 
-def _newmark_maps(M, C, K, L, R, h_dt, beta, gamma, substeps):
-    """Phi, G0, G1, Gc, Egx, Egg, Egc of ``substeps`` Newmark steps (the general driver's ``_predictor``)."""
+def _newmark_maps(M, C, K, L, R, h_dt, beta, gamma, substeps, quadratic=False):
+    """Phi, G0, G1, Gc, Gq, Egx, Egg, Egc, Egq of ``substeps`` Newmark steps (the general driver's
+    ``_predictor``).  Gq and Egq are zeros: the Newmark scheme's free flight holds the constant terms
+    only (a Bouc-Wen row takes its physical path there, so that the off switch compares to round-off)."""
     nb, nm = L.shape
     ns = R.shape[1]
     nx = 2 * nb
@@ -316,4 +346,5 @@ def _newmark_maps(M, C, K, L, R, h_dt, beta, gamma, substeps):
         V = Vv + gamma / (beta * h) * Du
     X = np.vstack([U, V])
     egx, egg, egc = _split(Q, nx, nm)
-    return X[:, :nx], X[:, nx:nx + nm], X[:, nx + nm:nx + 2 * nm], X[:, nx + 2 * nm:], egx, egg, egc
+    return (X[:, :nx], X[:, nx:nx + nm], X[:, nx + nm:nx + 2 * nm], X[:, nx + 2 * nm:], np.zeros((nx, 2 * ns)),
+            egx, egg, egc, np.zeros((2 * nm, 2 * ns)))

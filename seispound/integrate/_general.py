@@ -56,7 +56,7 @@ from ._events import LAND_TOL, _event_in_step
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
 from ._linear import _dense_solve, _factor_band, _solve_range
 from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY
-from ._material import (ST_DELTA, ST_E, ST_EPS, ST_PLASTIC, ST_Z, ST_ZETA, bouc_wen_advance, material_commit,
+from ._material import (ST_DELTA, ST_E, ST_EPS, ST_PLASTIC, ST_Z, ST_ZETA, bouc_wen_advance, bouc_wen_slope, material_commit,
                         material_energy, material_trial)
 from ._outputs import (
     E_CONTACT,
@@ -497,10 +497,10 @@ def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs, ys, cst):
     return de
 
 
-# a free-flight step's Bouc-Wen terms: the fixed point stops when no term's rise moves by more than
-# BW_FLIGHT_TOL (1 - alpha) k dy, and is given up (the physical path takes the step) after BW_FLIGHT_ITER
-BW_FLIGHT_TOL = 1e-10
-MIDDLE = False
+# a free-flight step's Bouc-Wen terms: the fixed point stops when the next sweep would move no term's rise
+# by more than BW_FLIGHT_TOL (1 - alpha) k dy, and is given up (the physical path takes the step) after
+# BW_FLIGHT_ITER sweeps
+BW_FLIGHT_TOL = 1e-7
 BW_FLIGHT_ITER = 30
 # 3-point Gauss-Legendre on [0, 1] (exact for the quartic c(s) delta'(s) of the storey's work)
 _GL_T = (0.5 - 0.5 * 0.7745966692414834, 0.5, 0.5 + 0.5 * 0.7745966692414834)
@@ -509,11 +509,14 @@ _GL_W = (5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0)
 
 @njit(cache=True)
 def _bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
-    """(z at the step's middle, z and eps at its end) of Bouc-Wen storey q along the deformation
-    delta(tau) = d0 + ca tau + cb tau^2 + cc tau^3, tau in [0, 1] (the step's Hermite cubic).
+    """(z at the step's middle, z and eps at its end, dz/d(delta) at the middle and at the end) of Bouc-Wen
+    storey q along the deformation delta(tau) = d0 + ca tau + cb tau^2 + cc tau^3, tau in [0, 1] (the
+    step's Hermite cubic).
 
     The law is rate independent, so z follows the path: ``bouc_wen_advance`` over its monotonic
-    pieces, split at the turning points (delta'(tau) = 0) and at the middle.
+    pieces, split at the turning points (delta'(tau) = 0).  On a monotonic step one piece, and z at
+    the middle from the cubic Hermite of z in delta through both ends, with the law's slopes there
+    (error of order (delta1 - delta0)^4; derived here); otherwise split at the middle too.
     """
     t_a, t_b = 2.0, 2.0  # the turning points in (0, 1), 2: none
     qa, qb, qc = 3.0 * cc, 2.0 * cb, ca
@@ -530,12 +533,24 @@ def _bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
         t_a = 2.0
     if not 1e-9 < t_b < 1.0 - 1e-9:
         t_b = 2.0
-    s0, s1, s2 = min(t_a, t_b), max(t_a, t_b), (0.5 if MIDDLE else 2.0)  # sorted with the middle: s0 <= s1 <= s2
-    if MIDDLE and s1 > 0.5:
+    d1 = d0 + ca + cb + cc
+    dm = d0 + 0.5 * ca + 0.25 * cb + 0.125 * cc
+    if t_a > 1.0:  # monotonic: one piece, the middle by Hermite interpolation in delta
+        span = d1 - d0
+        z1, eps1, _ = bouc_wen_advance(par, q, z, eps, span)
+        p0 = bouc_wen_slope(par, q, z, eps, span)
+        p1 = bouc_wen_slope(par, q, z1, eps1, span)
+        th = (dm - d0) / span if span != 0.0 else 0.5
+        zm = ((2.0 * th - 3.0) * th * th + 1.0) * z + (th - 1.0) * (th - 1.0) * th * span * p0 \
+            + (3.0 - 2.0 * th) * th * th * z1 + (th - 1.0) * th * th * span * p1
+        return zm, z1, eps1, bouc_wen_slope(par, q, zm, eps, span), p1
+    s0, s1, s2 = t_a, t_b, 0.5  # sorted with the middle: s0 <= s1 <= s2
+    if s1 > 0.5:
         s1, s2 = 0.5, s1
         if s0 > 0.5:
             s0, s1 = 0.5, s0
     zm = z
+    pm = 1.0
     tp = 0.0
     dp = d0
     for i in range(4):
@@ -544,11 +559,13 @@ def _bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
             continue
         db = d0 + tb * (ca + tb * (cb + tb * cc))
         z, eps, _ = bouc_wen_advance(par, q, z, eps, db - dp)
-        dp = db
-        tp = tb
         if tb == 0.5:
             zm = z
-    return zm, z, eps
+            pm = bouc_wen_slope(par, q, z, eps, db - dp)
+        last = db - dp
+        dp = db
+        tp = tb
+    return zm, z, eps, pm, bouc_wen_slope(par, q, z, eps, last)
 
 
 @njit(cache=True)
@@ -559,34 +576,40 @@ def _bouc_wen_flight(ff, el, mat, u, v, u1, v1, a1, gs, gk, zero, h, rise, zs):
     linear part holds k, and c is a load that changes within the step.  It is taken as the quadratic
     through c0 (committed, ``cst``), c0 + dm at the middle and c0 + d1 at the end, whose response the
     maps give (``transition._exact_maps``, columns gq); z follows the end state's Hermite cubic of each
-    storey's deformation (``_bouc_wen_path``), which gives new dm, d1: a fixed point, iterated until
-    no rise moves by more than BW_FLIGHT_TOL (1 - alpha) k dy (Gauss-Seidel over the storeys; the
-    contraction is about (1 - alpha) (omega h)^2 / 6 per sweep).  u1, v1, a1 (in: with c0 held) end
-    with the final terms; rise (2 ns) holds dm, d1 and zs (3 ns) z at the end, eps at the end, and the
-    storey's deformation at the end.  The storey's work int (k delta - c) d(delta) is exact for the
-    quadratic c and cubic delta (3-point Gauss-Legendre; derived here, not read from a source).
+    storey's deformation (``_bouc_wen_path``), which gives new dm, d1: a fixed point, swept over the
+    storeys (Gauss-Seidel; the contraction is about (1 - alpha) (omega h)^2 / 6 per sweep) from the
+    last step's quadratic extrapolated.  After each sweep the change its updates made in every
+    storey's deformation at the middle and the end, times the law's slope there, predicts the next
+    sweep's corrections; when none would exceed BW_FLIGHT_TOL (1 - alpha) k dy the sweep is not made
+    and z takes that linear correction instead (one path integration per storey and sweep saved).
+
+    u1, v1, a1 (in: with c0 held) end with the final terms.  rise (2 ns + 1) holds dm, d1 and the
+    sweeps made; zs (6 ns) per storey z at the end, eps at the end, the deformation at the end and
+    at the middle of its last integration, and the law's slopes there.  The storey's work
+    int (k delta - c) d(delta) is exact for the quadratic c and cubic delta (3-point Gauss-Legendre;
+    derived here, not read from a source).
     """
     start, st_elem, st_start, gq, egq = ff[1], ff[10], ff[11], ff[14], ff[15]
     ne_dof, ne_coef, ne_size, ne_code, ne_par, st_c, cst = el[0], el[1], el[2], mat[0], mat[1], mat[2], mat[3]
     nm = gs.size // 2
     o_q = 0
-    for c in range(start.size - 1):  # the first guess: each term rises as over the last step
+    for c in range(start.size - 1):  # the first guess: the last step's quadratic, extrapolated
         a = start[c]
         nb = start[c + 1] - a
         for j in range(st_start[c], st_start[c + 1]):
             if ne_code[st_elem[j]] != BOUC_WEN:
                 continue
-            dm, d1 = rise[2 * j], rise[2 * j + 1]
+            dm, d1 = 2.0 * rise[2 * j + 1] - 3.0 * rise[2 * j], 5.0 * rise[2 * j + 1] - 8.0 * rise[2 * j]
+            rise[2 * j], rise[2 * j + 1] = dm, d1
             base = o_q + (j - st_start[c]) * 6 * nb
             for r in range(nb):
                 u1[a + r] += gq[base + r] * dm + gq[base + 3 * nb + r] * d1
                 v1[a + r] += gq[base + nb + r] * dm + gq[base + 4 * nb + r] * d1
                 a1[a + r] += gq[base + 2 * nb + r] * dm + gq[base + 5 * nb + r] * d1
         o_q += 6 * nb * (st_start[c + 1] - st_start[c])
-    for it in range(BW_FLIGHT_ITER + 1):
+    converged = False
+    for it in range(BW_FLIGHT_ITER):
         rise[rise.size - 1] = it + 1  # sweeps made (the driver's iteration count)
-        last = it == BW_FLIGHT_ITER
-        change = 0.0
         o_q = 0
         for c in range(start.size - 1):
             a = start[c]
@@ -600,13 +623,13 @@ def _bouc_wen_flight(ff, el, mat, u, v, u1, v1, a1, gs, gk, zero, h, rise, zs):
                 ca, cd = h * rs0, ds1 - ds0
                 cb = 3.0 * cd - 2.0 * ca - h * rs1
                 cc = ca + h * rs1 - 2.0 * cd
-                zm, z1, eps1 = _bouc_wen_path(ne_par, q, st_c[q, ST_Z], st_c[q, ST_EPS], ds0, ca, cb, cc)
+                zm, z1, eps1, pm, p1 = _bouc_wen_path(ne_par, q, st_c[q, ST_Z], st_c[q, ST_EPS], ds0, ca, cb, cc)
                 dm_ = ds0 + 0.5 * ca + 0.25 * cb + 0.125 * cc
                 scale = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K]
-                ddm = (scale * (dm_ - zm) - cst[j] if MIDDLE else 0.5 * (scale * (ds1 - z1) - cst[j])) - rise[2 * j]
+                ddm = scale * (dm_ - zm) - cst[j] - rise[2 * j]
                 dd1 = scale * (ds1 - z1) - cst[j] - rise[2 * j + 1]
-                zs[3 * j], zs[3 * j + 1], zs[3 * j + 2] = z1, eps1, ds1
-                change = max(change, (abs(ddm) + abs(dd1)) / (scale * ne_par[q, BW_DY]))
+                zs[6 * j], zs[6 * j + 1], zs[6 * j + 2], zs[6 * j + 3] = z1, eps1, ds1, dm_
+                zs[6 * j + 4], zs[6 * j + 5] = pm, p1
                 if ddm == 0.0 and dd1 == 0.0:
                     continue
                 rise[2 * j] += ddm
@@ -617,11 +640,24 @@ def _bouc_wen_flight(ff, el, mat, u, v, u1, v1, a1, gs, gk, zero, h, rise, zs):
                     v1[a + r] += gq[base + nb + r] * ddm + gq[base + 4 * nb + r] * dd1
                     a1[a + r] += gq[base + 2 * nb + r] * ddm + gq[base + 5 * nb + r] * dd1
             o_q += 6 * nb * (st_start[c + 1] - st_start[c])
-        if change <= BW_FLIGHT_TOL:
+        # the next sweep's corrections, predicted from how far this sweep's updates moved each storey
+        pred = 0.0
+        for j in range(st_elem.size):
+            q = st_elem[j]
+            if ne_code[q] != BOUC_WEN:
+                continue
+            ds0, rs0 = _deformation(ne_dof, ne_coef, ne_size, q, u, zero, v, 0.0, gk, GU0)
+            ds1, rs1 = _deformation(ne_dof, ne_coef, ne_size, q, u1, zero, v1, 0.0, gk, GU1)
+            dm_ = 0.5 * (ds0 + ds1) + 0.125 * h * (rs0 - rs1)
+            step1, stepm = ds1 - zs[6 * j + 2], dm_ - zs[6 * j + 3]
+            pred = max(pred, (abs((1.0 - zs[6 * j + 4]) * stepm) + abs((1.0 - zs[6 * j + 5]) * step1))
+                       / ne_par[q, BW_DY])
+        if pred <= BW_FLIGHT_TOL:
+            converged = True
             break
-        if last:
-            return False, 0.0, 0.0
-    # the input work of the rises and the storeys' work along the final path
+    if not converged:
+        return False, 0.0, 0.0
+    # the input work of the rises, z's linear correction and the storeys' work along the final path
     de = 0.0
     dwh = 0.0
     o_e = 0
@@ -636,6 +672,10 @@ def _bouc_wen_flight(ff, el, mat, u, v, u1, v1, a1, gs, gk, zero, h, rise, zs):
                 de += gs[m] * (egq[base + m] * dm + egq[base + 2 * nm + m] * d1)
             ds0, rs0 = _deformation(ne_dof, ne_coef, ne_size, q, u, zero, v, 0.0, gk, GU0)
             ds1, rs1 = _deformation(ne_dof, ne_coef, ne_size, q, u1, zero, v1, 0.0, gk, GU1)
+            step1 = ds1 - zs[6 * j + 2]
+            zs[6 * j] += zs[6 * j + 5] * step1
+            zs[6 * j + 1] += zs[6 * j] * step1 / (ne_par[q, BW_DY] * ne_par[q, BW_DY])
+            zs[6 * j + 2] = ds1
             ca, cd = h * rs0, ds1 - ds0
             cb = 3.0 * cd - 2.0 * ca - h * rs1
             cc = ca + h * rs1 - 2.0 * cd
@@ -645,7 +685,6 @@ def _bouc_wen_flight(ff, el, mat, u, v, u1, v1, a1, gs, gk, zero, h, rise, zs):
                 ct = cst[j] + (4.0 * dm - d1) * tau + (2.0 * d1 - 4.0 * dm) * tau * tau
                 work_c += _GL_W[g] * ct * (ca + tau * (2.0 * cb + 3.0 * cc * tau))
             dwh += 0.5 * ne_par[q, B_K] * (ds1 * ds1 - ds0 * ds0) - work_c
-            zs[3 * j + 2] = ds1
         o_e += 4 * nm * (st_start[c + 1] - st_start[c])
     return True, de, dwh
 
@@ -720,7 +759,7 @@ def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1
     for j in range(st_elem.size):  # each bilinear storey within its elastic range over the whole step?
         q = st_elem[j]
         if ne_code[q] == BOUC_WEN:
-            d1[q] = zs[3 * j + 2]
+            d1[q] = zs[6 * j + 2]
             continue
         k = ne_par[q, B_K]
         hi = st_c[q, ST_PLASTIC] + ne_par[q, B_FY] / k
@@ -751,8 +790,8 @@ def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1
         if ne_code[q] == BOUC_WEN:  # the state its path reached
             for c in range(st_c.shape[1]):
                 st_t[q, c] = st_c[q, c]
-            st_t[q, ST_Z], st_t[q, ST_EPS], st_t[q, ST_DELTA] = zs[3 * j], zs[3 * j + 1], d1[q]
-            F[q] = ne_par[q, B_K] * d1[q] - (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * (d1[q] - zs[3 * j])
+            st_t[q, ST_Z], st_t[q, ST_EPS], st_t[q, ST_DELTA] = zs[6 * j], zs[6 * j + 1], d1[q]
+            F[q] = ne_par[q, B_K] * d1[q] - (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * (d1[q] - zs[6 * j])
         else:
             F[q] = material_trial(ne_code[q], ne_par, st_c, st_t, q, d1[q], r1[q])[0]
         material_commit(st_c, st_t, q)
@@ -892,7 +931,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     ys = np.empty(3 * n)
     cst = np.empty(max(ff[10].size, 1))
     rise = np.zeros(2 * max(ff[10].size, 1) + 1)  # the Bouc-Wen storeys' terms within a free-flight step, sweeps
-    zs = np.empty(3 * max(ff[10].size, 1))
+    zs = np.zeros(6 * max(ff[10].size, 1))
     n_storeys = 0
     for q in range(nn):
         n_storeys += 0 if ne_gap[q] else 1

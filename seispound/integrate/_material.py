@@ -196,6 +196,16 @@ def bouc_wen_advance(par, q, z, eps, total):
     return z, eps, dz
 
 
+@njit(cache=True, inline="always")
+def bouc_wen_slope(par, q, z, eps, d):
+    """dz/d(delta) [-] of Bouc-Wen storey q at z [m] and energy measure eps, moving in the direction of sign d
+    (``_bouc_wen_phi``: Wen 1976 with Baber & Wen's 1981 degradation)."""
+    dy = par[q, BW_DY]
+    xn, dxn = _bouc_wen_power(z, dy, par[q, BW_N])
+    return _bouc_wen_phi(z, d, xn, dxn, par[q, BW_BETA], par[q, BW_GAMMA], 1.0 + par[q, BW_DNU] * eps,
+                         1.0 + par[q, BW_DETA] * eps)[0]
+
+
 @njit(cache=True)
 def material_energy(code, par, state, q, delta):
     """Recoverable energy [J] of a storey law in ``state`` at deformation ``delta`` [m] (0 for contact laws).

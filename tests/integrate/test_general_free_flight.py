@@ -105,16 +105,21 @@ def test_exact_free_flight_keeps_the_energy_balance():
     assert e[-1, 5] > 0.0
 
 
-def test_bouc_wen_storeys_take_no_free_flight():
-    """A smooth hysteresis has no elastic range: every step stays on the physical path."""
+def test_bouc_wen_storeys_fly_free_with_their_offsets_iterated():
+    """A smooth hysteresis has no elastic range: its storeys fly free with their offset forces iterated
+    within each step (``_general._bouc_wen_flight``), the scheme says exact, and the off switch puts every
+    step back on the physical path (its accuracy against the twin: ``tests/verification/test_yielding_storeys``)."""
     m, system, rows = _case("yielding storeys", seconds=2.0)
     for b in m.buildings:
         b.storey_law = StoreyLaw(kind="bouc-wen", yield_drift=0.01, post_yield_ratio=0.05, n=2.0)
         b.validate()
     m.__dict__.pop("_assembled", None)
     system, motions = run_inputs(m)
-    raw = integrate(system, motions.rows, m.analysis.dt, m.analysis.nsteps, Newmark(contact_substeps=32))
-    assert raw.stats["free_flight_steps"] == 0 and raw.scheme == "newmark"
+    args = (system, motions.rows, m.analysis.dt, m.analysis.nsteps, Newmark(contact_substeps=32))
+    on, off = integrate(*args), integrate(*args, hysteretic_flight=False)
+    assert on.stats["free_flight_steps"] >= 0.5 * m.analysis.nsteps and on.scheme == "exact"
+    assert off.stats["free_flight_steps"] == 0 and off.scheme == "newmark"
+    assert integrate(*args, scheme="newmark").stats["free_flight_steps"] == 0  # the Newmark scheme: none
 
 
 def test_the_elastic_predictor_agrees_to_the_newton_tolerance():

@@ -62,12 +62,12 @@ def _building(kind, n=2.0):
     return Building("A", [1e5] * 3, [k] * 3, [3.0] * 3, RayleighDamping(0.05, (1, 2)), storey_law=law), k
 
 
-def _run_and_twin(kind, dt):
+def _run_and_twin(kind, dt, flight=True):
     b, k = _building(kind)
     system = assemble([b], [])
     ag, nsteps = el_centro(10.0, dt)
     ag = 2.0 * ag
-    raw = integrate(system, ag, dt, nsteps)
+    raw = integrate(system, ag, dt, nsteps, hysteretic_flight=flight)
     a0, a1 = b.rayleigh_coefficients()
     t = np.arange(nsteps + 1) * dt
     ref = twin.simulate([1e5] * 3, [_twin_law(kind, k=k, dy=0.01)] * 3, a0, a1, lambda s: np.interp(s, t, ag),
@@ -76,46 +76,55 @@ def _run_and_twin(kind, dt):
 
 
 # limits at dt = 5 and 2.5 ms on the hysteretic energy's error and on the residual drifts' difference / peak
-# displacement; measured bilinear +5.5e-4, +1.2e-4 and 7.4e-4, 2.0e-4; Bouc-Wen -1.6e-4, -1.9e-5 and 7.7e-4, 1.6e-4
-@pytest.mark.parametrize("kind, energy_limits, residual_limits", [("bilinear", (1.5e-3, 3e-4), (2e-3, 5e-4)),
-                                                                   ("bouc-wen", (4e-4, 5e-5), (2e-3, 4e-4))],
-                         ids=["bilinear", "bouc-wen"])
-def test_building_under_a_record_equals_the_twin(kind, energy_limits, residual_limits):
+# displacement, and on the displacement NE at 5 ms; measured bilinear +5.5e-4, +1.2e-4 and 7.4e-4, 2.0e-4, NE
+# 2.7e-3 (1.9e-3 with exact free flight between yields); Bouc-Wen on Newmark steps throughout -1.6e-4, -1.9e-5
+# and 7.7e-4, 1.6e-4, NE 2.2e-3; Bouc-Wen in free flight (its offsets iterated within the exact step) -6.9e-6,
+# +1.05e-5 and 8.0e-5, 1.6e-5, NE 2.1e-4 and 7.9e-5 at 2.5 ms
+@pytest.mark.parametrize("kind, flight, energy_limits, residual_limits, ne_limit, order",
+                         [("bilinear", True, (1.5e-3, 3e-4), (2e-3, 5e-4), 5e-3, 3.0),
+                          ("bouc-wen", False, (4e-4, 5e-5), (2e-3, 4e-4), 5e-3, 3.0),
+                          ("bouc-wen", True, (2e-5, 3e-5), (2.4e-4, 5e-5), 6e-4, 2.0)],
+                         ids=["bilinear", "bouc-wen-newmark", "bouc-wen-flight"])
+def test_building_under_a_record_equals_the_twin(kind, flight, energy_limits, residual_limits, ne_limit, order):
     errs = []
     for dt, energy_limit, residual_limit in zip((0.005, 0.0025), energy_limits, residual_limits):
-        raw, ref = _run_and_twin(kind, dt)
+        raw, ref = _run_and_twin(kind, dt, flight)
         assert raw.driver == "general"
         ne = np.linalg.norm(raw.displacement - ref["u"], axis=0) / np.linalg.norm(ref["u"], axis=0)
         errs.append(ne.max())
         e_h, e_h_ref = raw.energy[-1, 5], ref["e_hyst"][-1]
         residual, residual_ref = raw.displacement[-1], ref["u"][-1]
-        print(f"MEASURED {kind} dt={dt}: displacement NE {ne.max():.2e}; hysteretic energy {e_h:.5g} J, twin "
-              f"{e_h_ref:.5g} J ({e_h / e_h_ref - 1:+.2e}); residual roof drift {residual[-1]:.5f} m, twin "
-              f"{residual_ref[-1]:.5f} m; residual drifts differ by "
+        print(f"MEASURED {kind} flight={flight} dt={dt}: displacement NE {ne.max():.2e}; hysteretic energy "
+              f"{e_h:.5g} J, twin {e_h_ref:.5g} J ({e_h / e_h_ref - 1:+.2e}); residual roof drift {residual[-1]:.5f} m, "
+              f"twin {residual_ref[-1]:.5f} m; residual drifts differ by "
               f"{np.abs(residual - residual_ref).max() / np.abs(ref['u']).max():.1e} of the peak displacement")
         assert abs(e_h / e_h_ref - 1) <= energy_limit
         assert np.abs(residual - residual_ref).max() <= residual_limit * np.abs(ref["u"]).max()
         assert e_h_ref > 0.3 * ref["e_input"][-1]  # the storeys really yield
-    print(f"MEASURED {kind}: NE ratio on halving the step {errs[0] / errs[1]:.2f}")
-    assert errs[0] <= 0.005  # measured 2.7e-3 (bilinear), 2.2e-3 (Bouc-Wen)
-    assert errs[0] / errs[1] >= 3.0  # second order (measured 3.58, 3.99)
+    print(f"MEASURED {kind} flight={flight}: NE ratio on halving the step {errs[0] / errs[1]:.2f}")
+    assert errs[0] <= ne_limit
+    assert errs[0] / errs[1] >= order  # Newmark: second order (measured 3.58, 3.99); free flight 2.67
 
 
 # measured: balance 7.1e-15 / 2.6e-15 of the input (round-off: ~10x); input against the twin's +1.9e-4 / -2.2e-4;
-# damping -6.2e-4 / -4.3e-4; largest fall of the hysteretic energy -2.2e-16 (round-off: ~10x) / -1.2e-8 of its largest
-@pytest.mark.parametrize("kind, balance_limit, damping_limit, fall_limit", [("bilinear", 7e-14, 1.5e-3, 2e-15),
-                                                                             ("bouc-wen", 3e-14, 1.2e-3, 3e-8)],
-                         ids=["bilinear", "bouc-wen"])
-def test_energy_balance_with_hysteretic_dissipation(kind, balance_limit, damping_limit, fall_limit):
-    raw, ref = _run_and_twin(kind, 0.005)
+# damping -6.2e-4 / -4.3e-4; largest fall of the hysteretic energy -2.2e-16 (round-off: ~10x) / -1.2e-8 of its
+# largest; Bouc-Wen in free flight: balance 4.5e-15, input +4.6e-5, damping +1.9e-4, fall -1.6e-13
+@pytest.mark.parametrize("kind, flight, balance_limit, input_limit, damping_limit, fall_limit",
+                         [("bilinear", True, 7e-14, 5e-4, 1.5e-3, 2e-15),
+                          ("bouc-wen", False, 3e-14, 5e-4, 1.2e-3, 3e-8),
+                          ("bouc-wen", True, 5e-14, 1.5e-4, 5e-4, 2e-12)],
+                         ids=["bilinear", "bouc-wen-newmark", "bouc-wen-flight"])
+def test_energy_balance_with_hysteretic_dissipation(kind, flight, balance_limit, input_limit, damping_limit,
+                                                    fall_limit):
+    raw, ref = _run_and_twin(kind, 0.005, flight)
     e = raw.energy
     balance = e[:, 0] - e[:, 1:].sum(axis=1)
-    print(f"MEASURED {kind}: energy balance {np.abs(balance).max() / e[:, 0].max():.1e} of the input; "
-          f"input {e[-1, 0]:.5g} J, twin {ref['e_input'][-1]:.5g} J; damping {e[-1, 3]:.5g} J, twin "
+    print(f"MEASURED {kind} flight={flight}: energy balance {np.abs(balance).max() / e[:, 0].max():.1e} of the "
+          f"input; input {e[-1, 0]:.5g} J, twin {ref['e_input'][-1]:.5g} J; damping {e[-1, 3]:.5g} J, twin "
           f"{ref['e_damp'][-1]:.5g} J ({e[-1, 0] / ref['e_input'][-1] - 1:+.1e}, "
           f"{e[-1, 3] / ref['e_damp'][-1] - 1:+.1e}); largest fall of the hysteretic energy "
           f"{np.diff(e[:, 5]).min() / e[:, 5].max():.1e} of its largest")
     assert np.abs(balance).max() <= balance_limit * e[:, 0].max()
-    assert abs(e[-1, 0] / ref["e_input"][-1] - 1) <= 5e-4
+    assert abs(e[-1, 0] / ref["e_input"][-1] - 1) <= input_limit
     assert abs(e[-1, 3] / ref["e_damp"][-1] - 1) <= damping_limit
     assert np.all(np.diff(e[:, 5]) >= -fall_limit * e[:, 5].max())  # dissipation never runs backwards

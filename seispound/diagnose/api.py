@@ -552,10 +552,7 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
         polished.add(form)
         fit, specs = final[form]
         both = _compatible(joint, specs) + specs  # its own last: a storey's stiffness set after the list's factor
-        # the best short fit from each set of base values, if within WITHIN of the form's best (as the screen
-        # treats forms): an own fit from a start twice as far off ran into its budget, still far behind
-        best = min(f.ne_mean_after for f in origins[form].values())
-        texts = [f.model_text for f in origins[form].values() if f.ne_mean_after <= WITHIN * best]
+        texts = [f.model_text for f in origins[form].values()]  # the best short fit from each set of base values
         run(("polish", form), _polish, texts, specs, both, *common,
             min(POLISH * (len(both) + 1), max_evaluations))
     try:
@@ -734,8 +731,7 @@ def _best_candidates(aug, specs, base, chans, trial_list, bases=({},)) -> list[d
 
 def _polish(texts, specs, both, base, chans, trial_list, max_evaluations):
     """The screened fits (model texts: a form's best short fit from the nominal base values and from the
-    recalibrated ones, the second only if within WITHIN of the first) each fitted on to convergence in
-    their own parameters (``specs``), then the better
+    recalibrated ones) each fitted on to convergence in their own parameters (``specs``), then the better
     together with the ones already fitted (``both`` holds all), from there: each stage has its own budget
     and starts where the last ended, so the result is never worse than the screened fit.  Both bases are
     polished because the recalibrated values compensate for the missing physics (a start that fits

@@ -40,7 +40,11 @@ storey stays elastic (``_material.material_trial``).  Their stiffness k is in K
 (``SystemArrays.matrices``: storeys at their initial stiffness) and
 each storey's constant term is one more input, a load b_q c_q held over the step,
 with its own columns Gc (and Egc in the input work); the driver screens each
-storey's deformation against its elastic range as it screens the gaps.
+storey's deformation against its elastic range as it screens the gaps.  A Bouc-Wen
+storey's force is k delta - c with the offset c = (1 - alpha) k (delta - z), which
+changes within the step: with ``quadratic`` the load is the quadratic through c at the
+step's start, middle and end, two more columns per storey (Gq, Egq), and the driver
+iterates the offsets (``_general._bouc_wen_flight``).
 
 Either way the damping work of a step follows from the balance, input =
 kinetic + linear strain + damping (nothing else acts in free flight): exact

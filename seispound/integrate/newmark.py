@@ -546,7 +546,8 @@ def _free_flight_maps(system, tab, nm_rows, dt, nm, scheme, substeps, quadratic=
     """The general driver's free-flight maps (``transition.Transition``), or None where they do not apply.
 
     The caller has checked that the elements with state are gaps and bilinear storeys (piecewise
-    linear: free flight while every storey is elastic).  They apply when every building is a
+    linear: free flight while every storey is elastic) or, with ``quadratic``, Bouc-Wen storeys too
+    (their offsets a quadratic load within the step: ``transition._exact_maps``).  They apply when every building is a
     contiguous run of at most ``transition.MAX_BLOCK_DOFS`` DOFs and, for the Newmark scheme, the rule
     is average acceleration (whose trapezoidal energy sums the free-flight balance reproduces).
     """

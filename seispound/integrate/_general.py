@@ -56,7 +56,7 @@ from ._events import LAND_TOL, _event_in_step
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
 from ._linear import _dense_solve, _factor_band, _solve_range
 from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY
-from ._material import (ST_DELTA, ST_E, ST_EPS, ST_PLASTIC, ST_Z, ST_ZETA, bouc_wen_advance, bouc_wen_slope, material_commit,
+from ._material import (ST_DELTA, ST_E, ST_EPS, ST_PLASTIC, ST_Z, ST_ZETA, bouc_wen_path, material_commit,
                         material_energy, material_trial)
 from ._outputs import (
     E_CONTACT,
@@ -507,65 +507,21 @@ _GL_T = (0.5 - 0.5 * 0.7745966692414834, 0.5, 0.5 + 0.5 * 0.7745966692414834)
 _GL_W = (5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0)
 
 
-@njit(cache=True)
-def _bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
-    """(z at the step's middle, z and eps at its end, dz/d(delta) at the middle and at the end) of Bouc-Wen
-    storey q along the deformation delta(tau) = d0 + ca tau + cb tau^2 + cc tau^3, tau in [0, 1] (the
-    step's Hermite cubic).
+@njit(cache=True, inline="always")
+def _hermite(ds0, rs0, ds1, rs1, h):
+    """(ca, cb, cc) of the deformation's cubic Hermite over a step of h [s]: delta(tau) = ds0 + ca tau + cb tau^2
+    + cc tau^3, tau in [0, 1], from its values and rates at both ends."""
+    ca, cd = h * rs0, ds1 - ds0
+    return ca, 3.0 * cd - 2.0 * ca - h * rs1, ca + h * rs1 - 2.0 * cd
 
-    The law is rate independent, so z follows the path: ``bouc_wen_advance`` over its monotonic
-    pieces, split at the turning points (delta'(tau) = 0).  On a monotonic step one piece, and z at
-    the middle from the cubic Hermite of z in delta through both ends, with the law's slopes there
-    (error of order (delta1 - delta0)^4; derived here); otherwise split at the middle too.
-    """
-    t_a, t_b = 2.0, 2.0  # the turning points in (0, 1), 2: none
-    qa, qb, qc = 3.0 * cc, 2.0 * cb, ca
-    if qa != 0.0:
-        disc = qb * qb - 4.0 * qa * qc
-        if disc > 0.0:
-            sq = np.sqrt(disc)
-            r1 = (-qb - sq) / (2.0 * qa)
-            r2 = (-qb + sq) / (2.0 * qa)
-            t_a, t_b = min(r1, r2), max(r1, r2)
-    elif qb != 0.0:
-        t_a = -qc / qb
-    if not 1e-9 < t_a < 1.0 - 1e-9:
-        t_a = 2.0
-    if not 1e-9 < t_b < 1.0 - 1e-9:
-        t_b = 2.0
-    d1 = d0 + ca + cb + cc
-    dm = d0 + 0.5 * ca + 0.25 * cb + 0.125 * cc
-    if t_a > 1.0:  # monotonic: one piece, the middle by Hermite interpolation in delta
-        span = d1 - d0
-        z1, eps1, _ = bouc_wen_advance(par, q, z, eps, span)
-        p0 = bouc_wen_slope(par, q, z, eps, span)
-        p1 = bouc_wen_slope(par, q, z1, eps1, span)
-        th = (dm - d0) / span if span != 0.0 else 0.5
-        zm = ((2.0 * th - 3.0) * th * th + 1.0) * z + (th - 1.0) * (th - 1.0) * th * span * p0 \
-            + (3.0 - 2.0 * th) * th * th * z1 + (th - 1.0) * th * th * span * p1
-        return zm, z1, eps1, bouc_wen_slope(par, q, zm, eps, span), p1
-    s0, s1, s2 = t_a, t_b, 0.5  # sorted with the middle: s0 <= s1 <= s2
-    if s1 > 0.5:
-        s1, s2 = 0.5, s1
-        if s0 > 0.5:
-            s0, s1 = 0.5, s0
-    zm = z
-    pm = 1.0
-    tp = 0.0
-    dp = d0
-    for i in range(4):
-        tb = s0 if i == 0 else (s1 if i == 1 else (s2 if i == 2 else 1.0))
-        if tb > 1.0 or tb <= tp:
-            continue
-        db = d0 + tb * (ca + tb * (cb + tb * cc))
-        z, eps, _ = bouc_wen_advance(par, q, z, eps, db - dp)
-        if tb == 0.5:
-            zm = z
-            pm = bouc_wen_slope(par, q, z, eps, db - dp)
-        last = db - dp
-        dp = db
-        tp = tb
-    return zm, z, eps, pm, bouc_wen_slope(par, q, z, eps, last)
+
+@njit(cache=True, inline="always")
+def _add_rise(gq, base, nb, a, dm, d1, u1, v1, a1):
+    """Add a storey's rises dm, d1 [N] through its columns (at ``base`` in gq) to building a's end state."""
+    for r in range(nb):
+        u1[a + r] += gq[base + r] * dm + gq[base + 3 * nb + r] * d1
+        v1[a + r] += gq[base + nb + r] * dm + gq[base + 4 * nb + r] * d1
+        a1[a + r] += gq[base + 2 * nb + r] * dm + gq[base + 5 * nb + r] * d1
 
 
 @njit(cache=True)
@@ -576,7 +532,7 @@ def _bouc_wen_flight(ff, el, mat, u, v, u1, v1, a1, gs, gk, zero, h, rise, zs):
     linear part holds k, and c is a load that changes within the step.  It is taken as the quadratic
     through c0 (committed, ``cst``), c0 + dm at the middle and c0 + d1 at the end, whose response the
     maps give (``transition._exact_maps``, columns gq); z follows the end state's Hermite cubic of each
-    storey's deformation (``_bouc_wen_path``), which gives new dm, d1: a fixed point, swept over the
+    storey's deformation (``_material.bouc_wen_path``), which gives new dm, d1: a fixed point, swept over the
     storeys (Gauss-Seidel; the contraction is about (1 - alpha) (omega h)^2 / 6 per sweep) from the
     last step's quadratic extrapolated.  After each sweep the change its updates made in every
     storey's deformation at the middle and the end, times the law's slope there, predicts the next
@@ -601,11 +557,7 @@ def _bouc_wen_flight(ff, el, mat, u, v, u1, v1, a1, gs, gk, zero, h, rise, zs):
                 continue
             dm, d1 = 2.0 * rise[2 * j + 1] - 3.0 * rise[2 * j], 5.0 * rise[2 * j + 1] - 8.0 * rise[2 * j]
             rise[2 * j], rise[2 * j + 1] = dm, d1
-            base = o_q + (j - st_start[c]) * 6 * nb
-            for r in range(nb):
-                u1[a + r] += gq[base + r] * dm + gq[base + 3 * nb + r] * d1
-                v1[a + r] += gq[base + nb + r] * dm + gq[base + 4 * nb + r] * d1
-                a1[a + r] += gq[base + 2 * nb + r] * dm + gq[base + 5 * nb + r] * d1
+            _add_rise(gq, o_q + (j - st_start[c]) * 6 * nb, nb, a, dm, d1, u1, v1, a1)
         o_q += 6 * nb * (st_start[c + 1] - st_start[c])
     converged = False
     for it in range(BW_FLIGHT_ITER):
@@ -620,10 +572,8 @@ def _bouc_wen_flight(ff, el, mat, u, v, u1, v1, a1, gs, gk, zero, h, rise, zs):
                     continue
                 ds0, rs0 = _deformation(ne_dof, ne_coef, ne_size, q, u, zero, v, 0.0, gk, GU0)
                 ds1, rs1 = _deformation(ne_dof, ne_coef, ne_size, q, u1, zero, v1, 0.0, gk, GU1)
-                ca, cd = h * rs0, ds1 - ds0
-                cb = 3.0 * cd - 2.0 * ca - h * rs1
-                cc = ca + h * rs1 - 2.0 * cd
-                zm, z1, eps1, pm, p1 = _bouc_wen_path(ne_par, q, st_c[q, ST_Z], st_c[q, ST_EPS], ds0, ca, cb, cc)
+                ca, cb, cc = _hermite(ds0, rs0, ds1, rs1, h)
+                zm, z1, eps1, pm, p1 = bouc_wen_path(ne_par, q, st_c[q, ST_Z], st_c[q, ST_EPS], ds0, ca, cb, cc)
                 dm_ = ds0 + 0.5 * ca + 0.25 * cb + 0.125 * cc
                 scale = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K]
                 ddm = scale * (dm_ - zm) - cst[j] - rise[2 * j]
@@ -634,11 +584,7 @@ def _bouc_wen_flight(ff, el, mat, u, v, u1, v1, a1, gs, gk, zero, h, rise, zs):
                     continue
                 rise[2 * j] += ddm
                 rise[2 * j + 1] += dd1
-                base = o_q + (j - st_start[c]) * 6 * nb
-                for r in range(nb):
-                    u1[a + r] += gq[base + r] * ddm + gq[base + 3 * nb + r] * dd1
-                    v1[a + r] += gq[base + nb + r] * ddm + gq[base + 4 * nb + r] * dd1
-                    a1[a + r] += gq[base + 2 * nb + r] * ddm + gq[base + 5 * nb + r] * dd1
+                _add_rise(gq, o_q + (j - st_start[c]) * 6 * nb, nb, a, ddm, dd1, u1, v1, a1)
             o_q += 6 * nb * (st_start[c + 1] - st_start[c])
         # the next sweep's corrections, predicted from how far this sweep's updates moved each storey
         pred = 0.0
@@ -676,9 +622,7 @@ def _bouc_wen_flight(ff, el, mat, u, v, u1, v1, a1, gs, gk, zero, h, rise, zs):
             zs[6 * j] += zs[6 * j + 5] * step1
             zs[6 * j + 1] += zs[6 * j] * step1 / (ne_par[q, BW_DY] * ne_par[q, BW_DY])
             zs[6 * j + 2] = ds1
-            ca, cd = h * rs0, ds1 - ds0
-            cb = 3.0 * cd - 2.0 * ca - h * rs1
-            cc = ca + h * rs1 - 2.0 * cd
+            ca, cb, cc = _hermite(ds0, rs0, ds1, rs1, h)
             work_c = 0.0  # int c d(delta) = int_0^1 c(tau) delta'(tau) d tau
             for g in range(3):
                 tau = _GL_T[g]

@@ -27,10 +27,14 @@ State rows have N_STATE entries.  Contact laws (codes of ``contact.codes``)
 keep (zeta, e) set at onset and do not change within an impact.  Hysteretic
 storey laws: BILINEAR (kinematic hardening) and BOUC_WEN (smooth, Bouc 1967,
 Wen 1976).  The general driver (``_general.py``) calls every law through this
-protocol; the fast driver calls the contact branch directly.
+protocol; the fast driver calls the contact branch directly.  Free flight with
+Bouc-Wen storeys (``_general._bouc_wen_flight``) carries z along a step's path
+with ``bouc_wen_path`` and commits the state it reached.
 """
 
 from __future__ import annotations
+
+import numpy as np
 
 from seispound._jit import njit
 
@@ -204,6 +208,67 @@ def bouc_wen_slope(par, q, z, eps, d):
     xn, dxn = _bouc_wen_power(z, dy, par[q, BW_N])
     return _bouc_wen_phi(z, d, xn, dxn, par[q, BW_BETA], par[q, BW_GAMMA], 1.0 + par[q, BW_DNU] * eps,
                          1.0 + par[q, BW_DETA] * eps)[0]
+
+
+@njit(cache=True)
+def bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
+    """(z at the step's middle, z and eps at its end, dz/d(delta) at the middle and at the end) of Bouc-Wen
+    storey q along the deformation delta(tau) = d0 + ca tau + cb tau^2 + cc tau^3, tau in [0, 1] (the
+    step's Hermite cubic).
+
+    The law is rate independent, so z follows the path: ``bouc_wen_advance`` over its monotonic
+    pieces, split at the turning points (delta'(tau) = 0).  On a monotonic step one piece, and z at
+    the middle from the cubic Hermite of z in delta through both ends, with the law's slopes there
+    (error of order (delta1 - delta0)^4; derived here); otherwise split at the middle too.
+    """
+    t_a, t_b = 2.0, 2.0  # the turning points in (0, 1), 2: none
+    qa, qb, qc = 3.0 * cc, 2.0 * cb, ca
+    if qa != 0.0:
+        disc = qb * qb - 4.0 * qa * qc
+        if disc > 0.0:
+            sq = np.sqrt(disc)
+            r1 = (-qb - sq) / (2.0 * qa)
+            r2 = (-qb + sq) / (2.0 * qa)
+            t_a, t_b = min(r1, r2), max(r1, r2)
+    elif qb != 0.0:
+        t_a = -qc / qb
+    if not 1e-9 < t_a < 1.0 - 1e-9:
+        t_a = 2.0
+    if not 1e-9 < t_b < 1.0 - 1e-9:
+        t_b = 2.0
+    d1 = d0 + ca + cb + cc
+    dm = d0 + 0.5 * ca + 0.25 * cb + 0.125 * cc
+    if t_a > 1.0:  # monotonic: one piece, the middle by Hermite interpolation in delta
+        span = d1 - d0
+        z1, eps1, _ = bouc_wen_advance(par, q, z, eps, span)
+        p0 = bouc_wen_slope(par, q, z, eps, span)
+        p1 = bouc_wen_slope(par, q, z1, eps1, span)
+        th = (dm - d0) / span if span != 0.0 else 0.5
+        zm = ((2.0 * th - 3.0) * th * th + 1.0) * z + (th - 1.0) * (th - 1.0) * th * span * p0 \
+            + (3.0 - 2.0 * th) * th * th * z1 + (th - 1.0) * th * th * span * p1
+        return zm, z1, eps1, bouc_wen_slope(par, q, zm, eps, span), p1
+    s0, s1, s2 = t_a, t_b, 0.5  # sorted with the middle: s0 <= s1 <= s2
+    if s1 > 0.5:
+        s1, s2 = 0.5, s1
+        if s0 > 0.5:
+            s0, s1 = 0.5, s0
+    zm = z
+    pm = 1.0
+    tp = 0.0
+    dp = d0
+    for i in range(4):
+        tb = s0 if i == 0 else (s1 if i == 1 else (s2 if i == 2 else 1.0))
+        if tb > 1.0 or tb <= tp:
+            continue
+        db = d0 + tb * (ca + tb * (cb + tb * cc))
+        z, eps, _ = bouc_wen_advance(par, q, z, eps, db - dp)
+        if tb == 0.5:
+            zm = z
+            pm = bouc_wen_slope(par, q, z, eps, db - dp)
+        last = db - dp
+        dp = db
+        tp = tb
+    return zm, z, eps, pm, bouc_wen_slope(par, q, z, eps, last)
 
 
 @njit(cache=True)

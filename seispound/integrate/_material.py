@@ -211,6 +211,13 @@ def bouc_wen_slope(par, q, z, eps, d):
 
 
 @njit(cache=True)
+def _bouc_wen_piece(par, q, z, eps, total):
+    """``bouc_wen_advance`` compiled once, not inlined: a path calls it from two places, and inlining it in
+    both cost seconds of compilation for nothing measurable in run time."""
+    return bouc_wen_advance(par, q, z, eps, total)
+
+
+@njit(cache=True)
 def bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
     """(z at the step's middle, z and eps at its end, dz/d(delta) at the middle and at the end) of Bouc-Wen
     storey q along the deformation delta(tau) = d0 + ca tau + cb tau^2 + cc tau^3, tau in [0, 1] (the
@@ -240,7 +247,7 @@ def bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
     dm = d0 + 0.5 * ca + 0.25 * cb + 0.125 * cc
     if t_a > 1.0:  # monotonic: one piece, the middle by Hermite interpolation in delta
         span = d1 - d0
-        z1, eps1, _ = bouc_wen_advance(par, q, z, eps, span)
+        z1, eps1, _ = _bouc_wen_piece(par, q, z, eps, span)
         p0 = bouc_wen_slope(par, q, z, eps, span)
         p1 = bouc_wen_slope(par, q, z1, eps1, span)
         th = (dm - d0) / span if span != 0.0 else 0.5
@@ -261,7 +268,7 @@ def bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
         if tb > 1.0 or tb <= tp:
             continue
         db = d0 + tb * (ca + tb * (cb + tb * cc))
-        z, eps, _ = bouc_wen_advance(par, q, z, eps, db - dp)
+        z, eps, _ = _bouc_wen_piece(par, q, z, eps, db - dp)
         if tb == 0.5:
             zm = z
             pm = bouc_wen_slope(par, q, z, eps, db - dp)

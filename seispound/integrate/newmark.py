@@ -141,7 +141,7 @@ def _exact_coefficients(basis, dt):
 
 
 # rough compile time of each driver on a first use (``python -m benchmarks.startup``): said before it starts
-COMPILE_SECONDS = {"fast": "about 40 s", "general": "about 45 s"}
+COMPILE_SECONDS = {"fast": "about 40 s", "general": "about 50 s"}
 _ANNOUNCED: set = set()
 
 

@@ -52,7 +52,7 @@ from ._borrow import borrow, keep_alive
 from ._contact import _begin_impact, _contact_step, _end_impact, _group_contacts, _peak_through
 from ._elements import (_add_to_band, _dot, _scatter, assemble_band, kinetic_energy, linear_bands, linear_forces,
                         mass_times, strain_energy)
-from ._events import LAND_TOL, _event_in_step
+from ._events import LAND_TOL, _event_in_step, _hermite
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
 from ._linear import _dense_solve, _factor_band, _solve_range
 from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY
@@ -508,7 +508,7 @@ _GL_W = (5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0)
 
 
 @njit(cache=True, inline="always")
-def _hermite(ds0, rs0, ds1, rs1, h):
+def _cubic(ds0, rs0, ds1, rs1, h):
     """(ca, cb, cc) of the deformation's cubic Hermite over a step of h [s]: delta(tau) = ds0 + ca tau + cb tau^2
     + cc tau^3, tau in [0, 1], from its values and rates at both ends."""
     ca, cd = h * rs0, ds1 - ds0
@@ -572,9 +572,9 @@ def _bouc_wen_flight(ff, el, mat, u, v, u1, v1, a1, gs, gk, zero, h, rise, zs):
                     continue
                 ds0, rs0 = _deformation(ne_dof, ne_coef, ne_size, q, u, zero, v, 0.0, gk, GU0)
                 ds1, rs1 = _deformation(ne_dof, ne_coef, ne_size, q, u1, zero, v1, 0.0, gk, GU1)
-                ca, cb, cc = _hermite(ds0, rs0, ds1, rs1, h)
+                ca, cb, cc = _cubic(ds0, rs0, ds1, rs1, h)
                 zm, z1, eps1, pm, p1 = bouc_wen_path(ne_par, q, st_c[q, ST_Z], st_c[q, ST_EPS], ds0, ca, cb, cc)
-                dm_ = ds0 + 0.5 * ca + 0.25 * cb + 0.125 * cc
+                dm_ = _hermite(0.5, ds0, rs0, ds1, rs1, h)
                 scale = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K]
                 ddm = scale * (dm_ - zm) - cst[j] - rise[2 * j]
                 dd1 = scale * (ds1 - z1) - cst[j] - rise[2 * j + 1]
@@ -594,7 +594,7 @@ def _bouc_wen_flight(ff, el, mat, u, v, u1, v1, a1, gs, gk, zero, h, rise, zs):
                 continue
             ds0, rs0 = _deformation(ne_dof, ne_coef, ne_size, q, u, zero, v, 0.0, gk, GU0)
             ds1, rs1 = _deformation(ne_dof, ne_coef, ne_size, q, u1, zero, v1, 0.0, gk, GU1)
-            dm_ = 0.5 * (ds0 + ds1) + 0.125 * h * (rs0 - rs1)
+            dm_ = _hermite(0.5, ds0, rs0, ds1, rs1, h)
             step1, stepm = ds1 - zs[6 * j + 2], dm_ - zs[6 * j + 3]
             pred = max(pred, (abs((1.0 - zs[6 * j + 4]) * stepm) + abs((1.0 - zs[6 * j + 5]) * step1))
                        / ne_par[q, BW_DY])
@@ -622,7 +622,7 @@ def _bouc_wen_flight(ff, el, mat, u, v, u1, v1, a1, gs, gk, zero, h, rise, zs):
             zs[6 * j] += zs[6 * j + 5] * step1
             zs[6 * j + 1] += zs[6 * j] * step1 / (ne_par[q, BW_DY] * ne_par[q, BW_DY])
             zs[6 * j + 2] = ds1
-            ca, cb, cc = _hermite(ds0, rs0, ds1, rs1, h)
+            ca, cb, cc = _cubic(ds0, rs0, ds1, rs1, h)
             work_c = 0.0  # int c d(delta) = int_0^1 c(tau) delta'(tau) d tau
             for g in range(3):
                 tau = _GL_T[g]

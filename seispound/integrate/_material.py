@@ -39,6 +39,7 @@ import numpy as np
 from seispound._jit import njit
 
 from ..contact._scalar import law_force, onset_state
+from ._events import _hermite
 from ..contact.codes import P_EXPONENT, P_K, P_MEFF, P_TENSION
 
 # state columns: contact laws
@@ -251,8 +252,7 @@ def bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
         p0 = bouc_wen_slope(par, q, z, eps, span)
         p1 = bouc_wen_slope(par, q, z1, eps1, span)
         th = (dm - d0) / span if span != 0.0 else 0.5
-        zm = ((2.0 * th - 3.0) * th * th + 1.0) * z + (th - 1.0) * (th - 1.0) * th * span * p0 \
-            + (3.0 - 2.0 * th) * th * th * z1 + (th - 1.0) * th * th * span * p1
+        zm = _hermite(th, z, p0, z1, p1, span)  # z as a cubic in delta, its slopes the law's
         return zm, z1, eps1, bouc_wen_slope(par, q, zm, eps, span), p1
     s0, s1, s2 = t_a, t_b, 0.5  # sorted with the middle: s0 <= s1 <= s2
     if s1 > 0.5:

@@ -38,6 +38,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._blas import single_threaded
 from ..errors import InputError
 
 __all__ = ["FitParameter", "CalibrationResult", "parse_fit", "default_bounds"]
@@ -186,6 +187,7 @@ def normalised_errors(sim, rec) -> dict:
     return {cid: float(np.linalg.norm(sim[cid] - x) / max(np.linalg.norm(x), 1e-300)) for cid, x in rec.items()}
 
 
+@single_threaded  # a fit's matrices are tall and thin: one BLAS thread is faster (_blas.py)
 def calibrate_observer(observer, params, progress=True, max_evaluations=None, write_base=None,
                        tolerance=1e-8, step_fraction=None) -> CalibrationResult:
     """Fit ``params`` (FitParameters) through ``observer`` (observe.Observer); see the module docstring.

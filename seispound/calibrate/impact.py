@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._blas import single_threaded
 from ..errors import InputError
 
 __all__ = ["ImpactStudy", "impact_study", "first_pulse", "velocity_at", "SEED_LAWS"]
@@ -153,6 +154,7 @@ class ImpactStudy:
         plt.close(fig)
 
 
+@single_threaded  # (its fits: _blas.py)
 def impact_study(model, trials, channels, laws=SEED_LAWS, progress=False) -> ImpactStudy:
     """Run the seed's procedure (module docstring) on every trial for every law.
 

@@ -53,6 +53,7 @@ class Observer:
         self.evaluations = 0
         self.impact_times = []
         self._substeps = None  # contact substeps the tolerance chose for the model as given, kept for the fit
+        self._parts = None  # the buildings the evaluations share (model/parts.py)
 
     def _fixed_substeps(self, trial) -> int:
         """The contact substeps of every evaluation whose model does not give them: chosen once, from the
@@ -64,10 +65,10 @@ class Observer:
             self._substeps = int(contact_substeps(self._parse(trial, data))[0].contact_substeps)
         return self._substeps
 
-    def _parse(self, trial, data):
+    def _parse(self, trial, data, parts=None):
         from ..model.toml_loader import parse_model
 
-        return parse_model(data, base=trial.base or self.base)
+        return parse_model(data, base=trial.base or self.base, parts=parts)
 
     def data_for(self, trial, overrides) -> dict:
         """The model table of ``trial`` with ``overrides`` [(path, value)] applied, its duration the recording's."""
@@ -97,7 +98,13 @@ class Observer:
         """Per trial: {trace id: simulated samples on the recording's grid}."""
         self.evaluations += 1
         self.impact_times = []  # per trial, the onset times [s] of the last simulation's impacts
-        return [self._one(t, self.model_for(t, overrides)) for t in self.trials]
+        from ..model import parts
+
+        if self._parts is None:
+            self._parts = parts.Parts()
+        # read as variants: the buildings an evaluation leaves unchanged are read and laid out once
+        kept = self._parts if parts.REUSE else None
+        return [self._one(t, self._parse(t, self.data_for(t, overrides), kept)) for t in self.trials]
 
     def _one(self, trial, model) -> dict:
         from ..results.floors import floor_view

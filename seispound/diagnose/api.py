@@ -34,6 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._blas import single_threaded
 from .hypotheses import ALTERNATIVES, HYPOTHESES
 from .locate import locate, noise_ne as channel_noise_ne
 from .signature import (
@@ -304,6 +305,7 @@ def _number(x) -> bool:
     return isinstance(x, (int, float)) and not isinstance(x, bool)
 
 
+@single_threaded  # its fits' matrices are tall and thin: one BLAS thread is faster (_blas.py)
 def diagnose(model, recordings=None, *, channels, trials=None, report=None, output=None, figure=None,
              progress=True, hypotheses=None, max_evaluations=400, jobs=None) -> Diagnosis:
     """Locate where ``model`` and the recordings differ and name the physics the model left out.

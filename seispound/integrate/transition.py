@@ -67,6 +67,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import expm
 
+from .._blas import one_thread
+
 __all__ = ["Transition", "transition", "blocks_of", "MAX_BLOCK_DOFS"]
 
 # Largest building (DOFs) that takes free flight: the dense transition costs (2 n_b)^2 per
@@ -167,22 +169,14 @@ def transition(tab: dict, matrices: tuple, dof_motion: np.ndarray, nm: int, dt: 
     step); ``quadratic``: the storeys' terms may vary quadratically within the step (``gq``, ``egq``;
     Bouc-Wen storeys, exact scheme).
     """
-    global _BLAS
     n = matrices[0].shape[0]
     start = blocks_of(tab, n)
     if start is None:
         return None
     # one BLAS thread: these matrices are small, and a second thread that spins beside the driver (or
-    # competes with other work on a busy machine) cost up to 100 times the computation (measured)
-    if _BLAS is None:
-        from threadpoolctl import ThreadpoolController
-
-        _BLAS = ThreadpoolController()  # (finding the libraries is the slow part: once)
-    with _BLAS.limit(limits=1, user_api="blas"):
+    # competes with other work on a busy machine) cost up to 100 times the computation (seispound/_blas.py)
+    with one_thread():
         return _transition(tab, matrices, start, dof_motion, nm, dt, scheme, beta, gamma, substeps, quadratic)
-
-
-_BLAS = None  # threadpoolctl's view of the loaded BLAS libraries
 
 
 def _transition(tab, matrices, start, dof_motion, nm, dt, scheme, beta, gamma, substeps, quadratic):

@@ -196,10 +196,11 @@ class Model:
         ``results.schema.Layout`` and the model-only plausibility findings).  Validates and assembles afresh when the content has changed; a dict that is not
         kept (a part that cannot be pickled) otherwise."""
         memo = self.__dict__.get("_assembled")
-        if memo is not None and memo[0] == self._content():
+        variant = self.__dict__.get("_parts") is not None  # read as a variant: never changed after (parts.py)
+        if memo is not None and (variant or memo[0] == self._content()):
             return memo[1]
         system = self._assemble()
-        key = self._content()  # after validation, which may normalise fields
+        key = b"variant" if variant else self._content()  # after validation, which may normalise fields
         kept = {"system": system}
         if key is not None:
             _freeze(system)
@@ -226,13 +227,15 @@ class Model:
                              file=self.source, key="building.name")
         try:
             self.analysis.validate()
+            parts = self.__dict__.get("_parts")
             for b in self.buildings:  # fields may have been set from Python since the model was read
-                b.validate()
+                if parts is None or not parts.owns(b):  # (a variant's kept buildings: validated when read)
+                    b.validate()
             if self.contact is not None:
                 self.contact.validate(key="contact")
             from ..structure import assemble
 
-            system = assemble(self.buildings, self.gaps, self.contact)  # gap neighbours, levels, sizes, laws
+            system = assemble(self.buildings, self.gaps, self.contact, parts)  # gap neighbours, levels, sizes, laws
             self._check_stability()
             self._check_motions()
         except InputError as err:

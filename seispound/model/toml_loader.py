@@ -17,6 +17,7 @@ from ..foundation import Footing, Foundation, Soil
 from ..storey import StoreyLaw
 from ..structure import Building, Gap, NoDamping, RayleighDamping
 from .analysis import DEFAULT_TOLERANCE, Analysis, Newmark
+from .parts import frozen
 from .spec import BuildingMotion, GroundMotionSpec, Model
 
 __all__ = ["load_model", "parse_model", "read_toml"]
@@ -83,8 +84,13 @@ def read_toml(path: Path, what: str) -> tuple[str, dict]:
         raise InputError(f"malformed TOML: {exc}", file=path, key="(syntax)") from None
 
 
-def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
-    """Build a :class:`Model` from the parsed TOML table ``data``."""
+def parse_model(data: dict, base=Path("."), source=None, text=None, parts=None) -> Model:
+    """Build a :class:`Model` from the parsed TOML table ``data``.
+
+    ``parts`` (:class:`~seispound.model.parts.Parts`): read a variant of a model, reusing the buildings
+    whose tables an earlier variant read with the same ``parts`` had unchanged; the model is the caller's
+    own and must not be changed (see ``model/parts.py``).
+    """
     if "model" in data and ("axis" in data or "records" in data):
         raise InputError("is a study file (it names a model and its axes), not a model: run it with "
                          "`seispound study FILE -o STUDY.h5`", key="model")
@@ -131,37 +137,11 @@ def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
         raise InputError("at least one [[building]] table is required", key="building")
     buildings = []
     for idx, b in enumerate(blist):
-        if not isinstance(b, dict):
-            raise InputError("must be a table", key=f"building.{idx + 1}")
-        name = b.get("name")
-        key = f"building.{name}" if isinstance(name, str) and name else f"building.{idx + 1}"
-        _check_keys(b, _BUILDING, key)
-        if not isinstance(name, str) or not name.strip():
-            raise InputError("is required (a non-empty string)", key=f"{key}.name")
-        for req in ("floor_masses", "storey_stiffness", "storey_heights"):
-            if req not in b:
-                raise InputError("is required", key=f"{key}.{req}")
-        floors = b.get("floors")
-        fields = {}
-        for fld in ("floor_masses", "storey_stiffness", "storey_heights"):
-            val = b[fld]
-            number_array(val, f"{key}.{fld}")  # a quoted number is reported here, at its own key
-            if _number(val) and floors is not None:
-                if not isinstance(floors, int) or isinstance(floors, bool) or floors < 1:
-                    raise InputError(f"must be an integer >= 1, got {floors!r}", key=f"{key}.floors")
-                val = [val] * floors
-            elif isinstance(val, list) and floors is not None and len(val) != floors:
-                raise InputError(f"has {len(val)} entries but floors = {floors}", key=f"{key}.{fld}")
-            fields[fld] = val
-        damping = _damping(b.get("damping", {"kind": "rayleigh"}), f"{key}.damping")
-        motion = _building_motion(b["ground_motion"], f"{key}.ground_motion", base) if "ground_motion" in b else None
-        storey_law = _storey_law(b["storey_law"], f"{key}.storey_law") if "storey_law" in b else None
-        foundation = _foundation(b["foundation"], f"{key}.foundation") if "foundation" in b else None
-        floor_model = _floor_model(b["floor_model"], f"{key}.floor_model") if "floor_model" in b else None
-        buildings.append(Building(name=name, damping=damping, initial_velocity=b.get("initial_velocity", 0.0),
-                                  position=b.get("position"), ground_motion=motion, storey_law=storey_law,
-                                  foundation=foundation, floor_model=floor_model,
-                                  **fields))
+        if parts is None:
+            buildings.append(_building(b, idx, base))
+        else:  # a variant: a building whose table is unchanged is the one read before
+            key = (idx, frozen(b), str(base))
+            buildings.append(parts.building(key, lambda: _building(b, idx, base)))  # noqa: B023 (called at once)
     # Building validates itself in __post_init__ with keys building.<name>.<field>
 
     # -- gaps ----------------------------------------------------------------------------
@@ -189,8 +169,44 @@ def parse_model(data: dict, base=Path("."), source=None, text=None) -> Model:
                          key="contact")
     model = Model(title=title, buildings=buildings, gaps=gaps, contact=law, analysis=analysis,
                   ground_motion=gm, source=source, text=text)
+    if parts is not None:
+        model.__dict__["_parts"] = parts  # its kept buildings are validated and laid out once (Model.kept)
     model.validate()  # buildings, gaps (neighbours, common levels, sizes), laws, Newmark stability
     return model
+
+
+def _building(b, idx: int, base) -> Building:
+    """The :class:`Building` of the ``idx``-th (0-based) ``[[building]]`` table ``b``, validated."""
+    if not isinstance(b, dict):
+        raise InputError("must be a table", key=f"building.{idx + 1}")
+    name = b.get("name")
+    key = f"building.{name}" if isinstance(name, str) and name else f"building.{idx + 1}"
+    _check_keys(b, _BUILDING, key)
+    if not isinstance(name, str) or not name.strip():
+        raise InputError("is required (a non-empty string)", key=f"{key}.name")
+    for req in ("floor_masses", "storey_stiffness", "storey_heights"):
+        if req not in b:
+            raise InputError("is required", key=f"{key}.{req}")
+    floors = b.get("floors")
+    fields = {}
+    for fld in ("floor_masses", "storey_stiffness", "storey_heights"):
+        val = b[fld]
+        number_array(val, f"{key}.{fld}")  # a quoted number is reported here, at its own key
+        if _number(val) and floors is not None:
+            if not isinstance(floors, int) or isinstance(floors, bool) or floors < 1:
+                raise InputError(f"must be an integer >= 1, got {floors!r}", key=f"{key}.floors")
+            val = [val] * floors
+        elif isinstance(val, list) and floors is not None and len(val) != floors:
+            raise InputError(f"has {len(val)} entries but floors = {floors}", key=f"{key}.{fld}")
+        fields[fld] = val
+    damping = _damping(b.get("damping", {"kind": "rayleigh"}), f"{key}.damping")
+    motion = _building_motion(b["ground_motion"], f"{key}.ground_motion", base) if "ground_motion" in b else None
+    storey_law = _storey_law(b["storey_law"], f"{key}.storey_law") if "storey_law" in b else None
+    foundation = _foundation(b["foundation"], f"{key}.foundation") if "foundation" in b else None
+    floor_model = _floor_model(b["floor_model"], f"{key}.floor_model") if "floor_model" in b else None
+    return Building(name=name, damping=damping, initial_velocity=b.get("initial_velocity", 0.0),
+                    position=b.get("position"), ground_motion=motion, storey_law=storey_law,
+                    foundation=foundation, floor_model=floor_model, **fields)
 
 
 # -- helpers ---------------------------------------------------------------------------

@@ -330,15 +330,23 @@ class FloorOutputs:
     nodes: list = None  # per output: its rod nodes' DOFs (empty for a lumped floor)
 
 
-def assemble(buildings, gaps, default_law=None) -> SystemArrays:
-    """Flatten ``buildings`` (left to right) and ``gaps`` into :class:`SystemArrays`."""
+def assemble(buildings, gaps, default_law=None, parts=None) -> SystemArrays:
+    """Flatten ``buildings`` (left to right) and ``gaps`` into :class:`SystemArrays`.
+
+    ``parts`` (:class:`seispound.model.parts.Parts`): the layouts of the buildings it keeps are
+    kept there too (a variant of a model lays out only the buildings that changed).
+    """
     from ._layout import LEFT, RIGHT, building_layout
 
     layouts, first = [], []
     n = 0
     for i, b in enumerate(buildings):
         first.append(n)
-        lay = building_layout(b, n, S.N_PAR, faces=(i > 0, i < len(buildings) - 1))
+        faces = (i > 0, i < len(buildings) - 1)
+        if parts is not None and parts.owns(b):
+            lay = parts.layout(b, n, faces, lambda: building_layout(b, n, S.N_PAR, faces))  # noqa: B023
+        else:
+            lay = building_layout(b, n, S.N_PAR, faces=faces)
         layouts.append(lay)
         n += len(lay.mass)
     cat = lambda name, dtype=float: np.asarray([x for lay in layouts for x in getattr(lay, name)], dtype)  # noqa

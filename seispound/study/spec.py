@@ -167,12 +167,17 @@ class Study:
         pos = self.run_position(index)
         return _apply(self.model_data, self.records[pos[0]].file, self.overrides(index), self.model_path)
 
-    def model_for(self, index: int):
-        """The :class:`~seispound.model.Model` of run ``index``."""
+    def model_for(self, index: int, parts=None):
+        """The :class:`~seispound.model.Model` of run ``index``.
+
+        ``parts`` (:class:`~seispound.model.parts.Parts`): read it as a variant of the study's model, reusing
+        the buildings the axes left unchanged; the model must then not be changed (the workers' runs).
+        """
         from ..model.toml_loader import parse_model
 
         data = self.model_data_for(index)
-        return parse_model(data, base=self.model_path.parent, source=str(self.model_path), text=self.model_text)
+        return parse_model(data, base=self.model_path.parent, source=str(self.model_path), text=self.model_text,
+                           parts=parts)
 
     def twin_key(self, index: int) -> tuple:
         """Runs with equal keys share their no-pounding twin (gaps and contact law do not change it)."""

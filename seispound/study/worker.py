@@ -27,6 +27,23 @@ def _layout(study):
     return b_of, f_of, len(floors), max(floors)
 
 
+_PARTS = {}  # (model file, its text) -> the Parts its runs share in this process (model/parts.py)
+
+
+def _variant(study, index: int):
+    """Run ``index``'s model, read reusing the buildings earlier runs in this process read unchanged."""
+    from ..model.parts import REUSE, Parts
+
+    if not REUSE:
+        return study.model_for(index)
+    key = (str(study.model_path), study.model_text)
+    parts = _PARTS.get(key)
+    if parts is None:
+        _PARTS.clear()  # one study at a time in a worker
+        parts = _PARTS[key] = Parts()
+    return study.model_for(index, parts=parts)
+
+
 def _per_floor(values, study):
     b_of, f_of, nb, nf = _layout(study)
     values = np.asarray(values, dtype=float)
@@ -48,7 +65,7 @@ def twin_task(study, index: int) -> dict:
     from ..simulation import run_inputs, run_row
 
     try:
-        model = study.model_for(index)
+        model = _variant(study, index)
         system, motions = run_inputs(model)
         raw = run_row(model, system.without_contact(), motions.rows)
         raw, floors = floor_view(raw, system)
@@ -68,7 +85,7 @@ def run_one(study, index: int, twin: dict) -> dict:
         out["error"] = f"no-pounding twin failed: {twin['error']}"
         return out
     try:
-        model = study.model_for(index)
+        model = _variant(study, index)
         system, motions = run_inputs(model)
         raw = run_row(model, system, motions.rows)
     except Exception as exc:

@@ -66,7 +66,8 @@ def _attached(d):
     floors = [m for b in d["building"] for m in (b["floor_masses"] if isinstance(b["floor_masses"], list)
                                                  else [b["floor_masses"]])]
     m_lo, m_hi = 1e-4 * min(floors), 0.1 * min(floors)
-    specs = [f"building.*.floor_model.attachment.mass={m_lo:g}:{m_hi:g}",
+    # the bounds in full precision: the null point sits on the lower one, and "%g" rounded it above the value
+    specs = [f"building.*.floor_model.attachment.mass={float(m_lo)!r}:{float(m_hi)!r}",
              "building.*.floor_model.attachment.joint_damping=10:1e8"]
     null = {"building.*.floor_model.attachment.mass": m_lo, "building.*.floor_model.attachment.joint_damping": 10.0}
     for b in d["building"]:
@@ -205,7 +206,7 @@ def _spatial_filtered(d):
     for b in d["building"][1:]:
         b["ground_motion"] = {"delay": 0.0, "lowpass": 0.8 * nyquist, "lowpass_order": 2}
         specs += [f"building.{b['name']}.ground_motion.delay=0:0.3",
-                  f"building.{b['name']}.ground_motion.lowpass=0.5:{0.8 * nyquist:g}"]
+                  f"building.{b['name']}.ground_motion.lowpass=0.5:{float(0.8 * nyquist)!r}"]
         null[f"building.{b['name']}.ground_motion.delay"] = 0.0
         null[f"building.{b['name']}.ground_motion.lowpass"] = 0.8 * nyquist
     return specs, null

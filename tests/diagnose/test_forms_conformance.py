@@ -1,0 +1,42 @@
+"""Every form of every hypothesis starts inside its own bounds (a conformance check over the registry).
+
+A form's null point is the model as given with the form's physics switched off; its fits start
+there. A null value outside the bounds its specs state makes ``parse_fit`` refuse the start, and
+the form is then never fitted from its null point. Floor masses and storey heights with many
+digits are the case that caught it: the body on a joint's mass bounds were printed with "%g",
+which rounded the null mass's lower bound above the null mass.
+"""
+
+import copy
+import tomllib
+
+import pytest
+
+from seispound.calibrate.fit import parse_fit
+from seispound.diagnose.hypotheses import _AUGMENT, ALTERNATIVES, HYPOTHESES
+from seispound.model.paths import set_value
+from tests._models import REPO
+
+REGISTRY = {**HYPOTHESES, **ALTERNATIVES}
+FORMS = [(name, k) for name in REGISTRY for k in range(len(_AUGMENT[name]))]
+
+
+def _tables():
+    base = tomllib.loads((REPO / "models" / "two_buildings.toml").read_text())
+    awkward = copy.deepcopy(base)
+    for b, m in zip(awkward["building"], (71451.59138044329, 123456.789)):
+        b["floor_masses"] = m
+    return {"as bundled": base, "floor masses with many digits": awkward}
+
+
+@pytest.mark.parametrize("name,k", FORMS, ids=[f"{n}-{k + 1}" for n, k in FORMS])
+@pytest.mark.parametrize("which", list(_tables()))
+def test_a_forms_null_point_lies_inside_its_bounds(name, k, which):
+    aug, specs, null = REGISTRY[name].augment(_tables()[which], k)
+    table = copy.deepcopy(aug)
+    for path, value in null.items():
+        set_value(table, path, value)
+    params = parse_fit(specs, table)  # raises InputError for a start outside its bounds
+    assert {p.path for p in params} == {s.partition("=")[0] for s in specs}
+    for p in params:
+        assert p.lo <= p.start <= p.hi, p.path

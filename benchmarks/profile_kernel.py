@@ -121,7 +121,7 @@ def _diagnose_form(name: str, out: Path):
 
     from seispound.calibrate.api import load_inputs
     from seispound.calibrate.observe import Observer
-    from seispound.diagnose.hypotheses import _AUGMENT, ALTERNATIVES, HYPOTHESES
+    from seispound.diagnose.hypotheses import ALTERNATIVES, HYPOTHESES
 
     from .diagnose.generate import write_case
 
@@ -133,7 +133,7 @@ def _diagnose_form(name: str, out: Path):
     data = tomllib.loads(model.text)
     data.setdefault("analysis", {}).setdefault("contact_substeps", 32)
     hyp = {**HYPOTHESES, **ALTERNATIVES}[hyp_name]
-    k = [fn.__name__ for fn in _AUGMENT[hyp_name]].index(form_name)
+    k = [fn.__name__ for fn in hyp.forms].index(form_name)
     table, _, null = hyp.augment(data, k)
     return Observer(table, f, chans, trials).model_for(trials[0], list(null.items()))
 

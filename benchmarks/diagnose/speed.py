@@ -53,7 +53,7 @@ def _forms(seed, repeat) -> int:
 
     from seispound.calibrate.api import load_inputs
     from seispound.calibrate.observe import Observer
-    from seispound.diagnose.hypotheses import _AUGMENT, ALTERNATIVES, HYPOTHESES
+    from seispound.diagnose.hypotheses import REGISTRY
 
     with tempfile.TemporaryDirectory() as tmp:
         f = Path(tmp) / "none"
@@ -77,11 +77,11 @@ def _forms(seed, repeat) -> int:
         obs.simulate([])
         print(f"one simulation, 2 buildings, 30 s at 200 Hz, median of {repeat}:")
         print(f"  base row: {1e3 * base:.1f} ms ({len(obs.impact_times[0])} impacts)")
-        for name, hyp in {**HYPOTHESES, **ALTERNATIVES}.items():
-            for k, form in enumerate(_AUGMENT[name]):
+        for hyp in REGISTRY:
+            for k, form in enumerate(hyp.forms):
                 table, specs, null = hyp.augment(data, k)
                 t = timed(table, list(null.items()))
-                print(f"  {name} / {form.__name__.lstrip('_')}: {1e3 * t:.1f} ms ({t / base:.1f} x the base row), "
+                print(f"  {hyp.name} / {form.__name__.lstrip('_')}: {1e3 * t:.1f} ms ({t / base:.1f} x the base row), "
                       f"{len(specs)} parameters", flush=True)
     return 0
 

@@ -10,7 +10,7 @@
    different storey-stiffness changes, which no storey factor can give); then soil-structure
    interaction alone is fitted, with the base parameters, under the same acceptance rule.
 3. The recalibrated residual located (``locate.py``): channels, windows, bands.
-4. Each hypothesis (``hypotheses.py``) added to the base model as given and its own parameters
+4. Each hypothesis (``hypotheses/``, one file each) added to the base model as given and its own parameters
    fitted (the base ones stay nominal: a missing effect is told from wrong parameters by which
    of the two explains the data with fewer parameters), from the best of three starts.
    It is accepted only if it lowers the Bayesian information criterion computed with the
@@ -325,6 +325,11 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     from ..model.paths import get_value
 
     t0 = time.perf_counter()
+    unknown = [h for h in (hypotheses or []) if h not in HYPOTHESES]
+    if unknown:
+        from ..errors import InputError
+
+        raise InputError(f"unknown hypothesis {unknown[0]!r}; one of: {', '.join(HYPOTHESES)}", key="hypotheses")
     jobs = (os.cpu_count() or 1) if jobs is None else int(jobs)
     model, chans, trial_list = load_inputs(model, recordings, channels, trials)
     chans = [c for c in chans if not (c.quantity == "acceleration" and c.floor == 0)]  # the input, not a response

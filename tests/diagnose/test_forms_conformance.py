@@ -13,12 +13,12 @@ import tomllib
 import pytest
 
 from seispound.calibrate.fit import parse_fit
-from seispound.diagnose.hypotheses import _AUGMENT, ALTERNATIVES, HYPOTHESES
+from seispound.diagnose.hypotheses import REGISTRY
 from seispound.model.paths import set_value
 from tests._models import REPO
 
-REGISTRY = {**HYPOTHESES, **ALTERNATIVES}
-FORMS = [(name, k) for name in REGISTRY for k in range(len(_AUGMENT[name]))]
+HYPOTHESES = {h.name: h for h in REGISTRY}
+FORMS = [(h.name, k) for h in REGISTRY for k in range(h.variants)]
 
 
 def _tables():
@@ -32,7 +32,7 @@ def _tables():
 @pytest.mark.parametrize("name,k", FORMS, ids=[f"{n}-{k + 1}" for n, k in FORMS])
 @pytest.mark.parametrize("which", list(_tables()))
 def test_a_forms_null_point_lies_inside_its_bounds(name, k, which):
-    aug, specs, null = REGISTRY[name].augment(_tables()[which], k)
+    aug, specs, null = HYPOTHESES[name].augment(_tables()[which], k)
     table = copy.deepcopy(aug)
     for path, value in null.items():
         set_value(table, path, value)
@@ -40,3 +40,16 @@ def test_a_forms_null_point_lies_inside_its_bounds(name, k, which):
     assert {p.path for p in params} == {s.partition("=")[0] for s in specs}
     for p in params:
         assert p.lo <= p.start <= p.hi, p.path
+
+
+def test_the_registry_names_every_hypothesis_once_and_diagnose_refuses_others():
+    from seispound.diagnose import diagnose
+    from seispound.diagnose.hypotheses import ALTERNATIVES
+    from seispound.errors import InputError
+
+    names = [h.name for h in REGISTRY]
+    assert len(names) == len(set(names))
+    assert set(names) == set(HYPOTHESES) and all(h.alternative == (h.name in ALTERNATIVES) for h in REGISTRY)
+    assert all(h.variants >= 1 and h.what and h.signature for h in REGISTRY)
+    with pytest.raises(InputError, match="hypotheses: unknown hypothesis 'rocking-walls'; one of: distributed-mass"):
+        diagnose("no-model.toml", channels="no-channels.toml", hypotheses=["rocking-walls"])

@@ -1,0 +1,53 @@
+"""What a hypothesis is: a physics (or a wrong-parameter form) with the augmentations that add it."""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass
+from typing import Callable
+
+__all__ = ["Hypothesis"]
+
+
+@dataclass(frozen=True)
+class Hypothesis:
+    """A physics a model may have left out, and the forms in which ``diagnose`` adds it.
+
+    Parameters
+    ----------
+    name : str
+        Its key: in reports, ``diagnose(hypotheses=...)`` and the docs.
+    what : str
+        What was left out, in words.
+    signature : str
+        What the residual should show.
+    forms : tuple of callables
+        The augmentations: each edits a copy of the model file's table in place and returns
+        (the fit specs ``PATH=lo:hi``, the null point ``{PATH: value}``); each is fitted, the best kept.
+    why_not : callable, optional
+        ``why_not(table)``: why the physics cannot apply to a model, or None when it can.
+    alternative : bool
+        A wrong-parameter form fitted beside the physics (it explains a misfit without naming a physics).
+    """
+
+    name: str
+    what: str
+    signature: str
+    forms: tuple = ()
+    why_not: Callable | None = None
+    alternative: bool = False
+
+    def applies(self, data: dict) -> str | None:
+        """Why this physics cannot apply to the model file's table ``data``, or None when it can."""
+        return self.why_not(data) if self.why_not else None
+
+    @property
+    def variants(self) -> int:
+        """How many forms the augmentation takes (each fitted; the best is kept)."""
+        return len(self.forms)
+
+    def augment(self, data: dict, variant: int = 0) -> tuple[dict, list, dict]:
+        """(the augmented model table, the fit specs PATH=lo:hi, the null point {PATH: value})."""
+        out = copy.deepcopy(data)
+        specs, null = self.forms[variant](out)
+        return out, specs, null

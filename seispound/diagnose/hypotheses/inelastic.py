@@ -1,0 +1,54 @@
+"""Inelastic storeys: bilinear, Bouc-Wen with a fitted exponent, and degrading Bouc-Wen hysteresis."""
+
+from __future__ import annotations
+
+from ._hypothesis import Hypothesis
+
+
+def _bouc_wen(d):
+    # smooth hysteresis (Bouc-Wen; large exponents approach the bilinear law): a yield drift per building,
+    # the post-yield ratio and the exponent one value for the row
+    specs = ["building.*.storey_law.post_yield_ratio=0.005:0.5", "building.*.storey_law.n=1:20"]
+    null = {"building.*.storey_law.post_yield_ratio": 0.05, "building.*.storey_law.n": 2.0}
+    for b in d["building"]:
+        b["storey_law"] = {"kind": "bouc-wen", "yield_drift": 0.02, "post_yield_ratio": 0.05, "n": 2.0,
+                           "beta": 0.5, "gamma": 0.5}
+        specs.append(f"building.{b['name']}.storey_law.yield_drift=0.0005:5")
+        null[f"building.{b['name']}.storey_law.yield_drift"] = 5.0
+    return specs, null
+
+
+def _bilinear(d):
+    # sharp yielding (bilinear, kinematic hardening): a yield drift per building, the post-yield ratio for the row
+    specs = ["building.*.storey_law.post_yield_ratio=0.005:0.5"]
+    null = {"building.*.storey_law.post_yield_ratio": 0.05}
+    for b in d["building"]:
+        b["storey_law"] = {"kind": "bilinear", "yield_drift": 0.02, "post_yield_ratio": 0.05}
+        specs.append(f"building.{b['name']}.storey_law.yield_drift=0.0005:5")
+        null[f"building.{b['name']}.storey_law.yield_drift"] = 5.0
+    return specs, null
+
+
+def _degrading(d):
+    # smooth hysteresis whose strength and stiffness degrade with the energy it dissipates (Baber & Wen 1981):
+    # a yield drift per building; post-yield ratio, exponent and the two degradation rates one value for the row
+    specs = ["building.*.storey_law.post_yield_ratio=0.005:0.5", "building.*.storey_law.n=1:20",
+             "building.*.storey_law.strength_degradation=0:0.2", "building.*.storey_law.stiffness_degradation=0:0.2"]
+    null = {"building.*.storey_law.post_yield_ratio": 0.05, "building.*.storey_law.n": 2.0,
+            "building.*.storey_law.strength_degradation": 0.0, "building.*.storey_law.stiffness_degradation": 0.0}
+    for b in d["building"]:
+        b["storey_law"] = {"kind": "bouc-wen", "yield_drift": 0.02, "post_yield_ratio": 0.05, "n": 2.0,
+                           "beta": 0.5, "gamma": 0.5, "strength_degradation": 0.0, "stiffness_degradation": 0.0}
+        specs.append(f"building.{b['name']}.storey_law.yield_drift=0.0005:5")
+        null[f"building.{b['name']}.storey_law.yield_drift"] = 5.0
+    return specs, null
+
+
+def _why_not(d):
+    return None if d.get("building") else "the model has no building"
+
+
+HYPOTHESIS = Hypothesis(
+    "inelastic-storey", "storeys that yield",
+    "residual that grows after the strongest shaking, with a permanent drift in the roof displacement",
+    forms=(_bouc_wen, _bilinear, _degrading), why_not=_why_not)

@@ -1,0 +1,40 @@
+"""Spatially varying input: a building's ground motion delayed, or delayed and low-passed (wave passage)."""
+
+from __future__ import annotations
+
+from ._hypothesis import Hypothesis
+
+
+def _spatial(d):
+    # the free field is recorded at the first building: the others' motion delayed (wave passage)
+    specs, null = [], {}
+    for b in d["building"][1:]:
+        b["ground_motion"] = {"delay": 0.0}
+        specs.append(f"building.{b['name']}.ground_motion.delay=0:0.3")
+        null[f"building.{b['name']}.ground_motion.delay"] = 0.0
+    return specs, null
+
+
+def _spatial_filtered(d):
+    # the others' motion delayed and low-passed (a wave that loses its high frequencies on the way; the
+    # incoherence of a wide foundation); null: no delay, a cut-off far above the structure's band
+    nyquist = 0.5 / float(d.get("analysis", {}).get("dt", 0.005))
+    specs, null = [], {}
+    for b in d["building"][1:]:
+        b["ground_motion"] = {"delay": 0.0, "lowpass": 0.8 * nyquist, "lowpass_order": 2}
+        specs += [f"building.{b['name']}.ground_motion.delay=0:0.3",
+                  f"building.{b['name']}.ground_motion.lowpass=0.5:{float(0.8 * nyquist)!r}"]
+        null[f"building.{b['name']}.ground_motion.delay"] = 0.0
+        null[f"building.{b['name']}.ground_motion.lowpass"] = 0.8 * nyquist
+    return specs, null
+
+
+def _why_not(d):
+    return None if len(d.get("building", [])) >= 2 else ("a single building: the ground motion is the record itself, "
+                                                          "there is no second base for it to differ at")
+
+
+HYPOTHESIS = Hypothesis(
+    "spatially-varying-input", "a different ground motion under a building (wave passage)",
+    "a building's floor channels out of phase with the model from the start, the free-field building right",
+    forms=(_spatial, _spatial_filtered), why_not=_why_not)

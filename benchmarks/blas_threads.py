@@ -13,8 +13,8 @@ import argparse
 import contextlib
 import statistics
 import tempfile
-import time
 import warnings
+from functools import partial
 from pathlib import Path
 
 
@@ -22,9 +22,7 @@ def main(argv=None) -> int:
     from threadpoolctl import threadpool_info
 
     import seispound._blas as blas
-    from seispound.calibrate import calibrate
-
-    from .calibration import FIT, setup
+    from .calibration import setup, timed
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=5)
@@ -35,11 +33,7 @@ def main(argv=None) -> int:
         folder = Path(tmp)
         setup(folder)
 
-        def run():
-            t0 = time.perf_counter()
-            res = calibrate(folder / "model.toml", [folder / "rec.mseed"], channels=folder / "ch.toml", fit=FIT,
-                            progress=False)
-            return time.perf_counter() - t0, res
+        run = partial(timed, folder)
 
         run()  # numba's cache, the record reader
         times = {True: [], False: []}

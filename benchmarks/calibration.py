@@ -59,9 +59,17 @@ def setup(folder: Path):
     (folder / "model.toml").write_text(off)
 
 
-def main(argv=None) -> int:
+def timed(folder: Path):
+    """(seconds, CalibrationResult) of the whole ``calibrate`` call on the case ``setup`` wrote in ``folder``."""
     from seispound.calibrate import calibrate
 
+    t0 = time.perf_counter()
+    res = calibrate(folder / "model.toml", [folder / "rec.mseed"], channels=folder / "ch.toml", fit=FIT,
+                    progress=False)
+    return time.perf_counter() - t0, res
+
+
+def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
     args = ap.parse_args(argv)
@@ -69,12 +77,7 @@ def main(argv=None) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
         setup(folder)
-        runs = []
-        for _ in range(args.repeat):
-            t0 = time.perf_counter()
-            res = calibrate(folder / "model.toml", [folder / "rec.mseed"], channels=folder / "ch.toml", fit=FIT,
-                            progress=False)
-            runs.append((time.perf_counter() - t0, res))
+        runs = [timed(folder) for _ in range(args.repeat)]
     t = statistics.median(r[0] for r in runs)
     res = runs[-1][1]
     print(f"calibration of {len(FIT)} parameters, 2 buildings, 30 s at 200 Hz, 3 channels: median of "

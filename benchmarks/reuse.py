@@ -24,14 +24,10 @@ from pathlib import Path
 
 
 def _calibrate(folder: Path):
-    from seispound.calibrate import calibrate
+    from .calibration import timed
 
-    from .calibration import FIT
-
-    t0 = time.perf_counter()
-    res = calibrate(folder / "model.toml", [folder / "rec.mseed"], channels=folder / "ch.toml", fit=FIT,
-                    progress=False)
-    return time.perf_counter() - t0, res.evaluations
+    seconds, res = timed(folder)
+    return seconds, res.evaluations
 
 
 def _study_runs(study, idx, twins):

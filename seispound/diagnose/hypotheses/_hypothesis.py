@@ -6,7 +6,7 @@ import copy
 from dataclasses import dataclass
 from typing import Callable
 
-__all__ = ["Hypothesis"]
+__all__ = ["Hypothesis", "needs_buildings", "needs_gaps"]
 
 
 @dataclass(frozen=True)
@@ -51,3 +51,13 @@ class Hypothesis:
         out = copy.deepcopy(data)
         specs, null = self.forms[variant](out)
         return out, specs, null
+
+
+def needs_gaps(what: str) -> Callable:
+    """A ``why_not`` for a physics of the impacts: a model without gaps has no impact ``what``."""
+    return lambda d: None if d.get("gap") else f"the model has no gap element, so no impact {what}"
+
+
+def needs_buildings(d: dict) -> str | None:
+    """A ``why_not`` for a physics of the buildings."""
+    return None if d.get("building") else "the model has no building"

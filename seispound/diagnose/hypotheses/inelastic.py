@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ._hypothesis import Hypothesis
+from ._hypothesis import Hypothesis, needs_buildings
 
 
 def _bouc_wen(d):
@@ -44,11 +44,7 @@ def _degrading(d):
     return specs, null
 
 
-def _why_not(d):
-    return None if d.get("building") else "the model has no building"
-
-
 HYPOTHESIS = Hypothesis(
     "inelastic-storey", "storeys that yield",
     "residual that grows after the strongest shaking, with a permanent drift in the roof displacement",
-    forms=(_bouc_wen, _bilinear, _degrading), why_not=_why_not)
+    forms=(_bouc_wen, _bilinear, _degrading), why_not=needs_buildings)

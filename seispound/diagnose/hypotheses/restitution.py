@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ._hypothesis import Hypothesis
+from ._hypothesis import Hypothesis, needs_gaps
 
 
 def _velocity_restitution(d):
@@ -37,12 +37,8 @@ def _constant_e(d):
     return float(e) if isinstance(e, (int, float)) else 0.65
 
 
-def _why_not(d):
-    return None if d.get("gap") else "the model has no gap element, so no impact whose restitution could vary"
-
-
 HYPOTHESIS = Hypothesis(
     "velocity-dependent-restitution", "a coefficient of restitution that changes with the impact velocity",
     "residual concentrated in the impacts, their rebound velocities wrong in opposite directions for strong "
     "and weak impacts",
-    forms=(_velocity_restitution, _exponential_restitution, _power_restitution), why_not=_why_not)
+    forms=(_velocity_restitution, _exponential_restitution, _power_restitution), why_not=needs_gaps("whose restitution could vary"))

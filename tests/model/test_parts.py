@@ -107,7 +107,7 @@ def test_fit_evaluations_with_and_without_reuse_agree(tmp_path, monkeypatch):
     assert "duration = 8.0" in text
     (tmp_path / "model.toml").write_text(text)
     ds = simulate(parse_model(tomllib.loads(text), base=tmp_path), twin=False)
-    x = ds.acceleration.sel(building="B", floor=4).values
+    x = np.ascontiguousarray(ds.acceleration.sel(building="B", floor=4).values)
     tr = obspy.Trace(x, header=dict(network="XX", station="B", location="00", channel="H04",
                                     delta=float(ds.attrs["dt"])))
     obspy.Stream([tr]).write(str(tmp_path / "rec.mseed"), format="MSEED", encoding="FLOAT64")

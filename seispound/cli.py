@@ -86,12 +86,14 @@ def _parser() -> argparse.ArgumentParser:
     imp.add_argument("-o", "--output", help="the table (markdown); default: printed only")
     imp.add_argument("--figure", help="a PNG of measured against simulated force per trial")
     imp.add_argument("-q", "--quiet", action="store_true", help="no progress or table on the terminal")
+    from .diagnose.hypotheses import HYPOTHESES  # the registry names the physics (no fitting code imported)
+
+    physics = ", ".join(HYPOTHESES)
     dg = sub.add_parser("diagnose", help="locate where a simulation and a recording differ and name the physics "
                                           "the model left out",
                         description="Check the numerics, recalibrate the model's own parameters, locate the "
-                                    "residual (channels, windows, bands), try each missing physics "
-                                    "(distributed-mass, velocity-dependent-restitution, soil-structure-interaction, "
-                                    "inelastic-storey, spatially-varying-input) and keep what the data support.")
+                                    f"residual (channels, windows, bands), try each missing physics ({physics}) "
+                                    "and keep what the data support.")
     dg.add_argument("model", help="TOML model file")
     dg.add_argument("recording", nargs="*", help="recording files (any format obspy reads)")
     dg.add_argument("--channels", required=True, help="channel map (TOML [[channel]] tables)")
@@ -99,6 +101,7 @@ def _parser() -> argparse.ArgumentParser:
     dg.add_argument("--report", required=True, help="REPORT.json")
     dg.add_argument("-o", "--output", help="the augmented model (.toml); default: MODEL_augmented.toml by the report")
     dg.add_argument("--figure", help="PNG of recorded, simulated and diagnosed channels, mismatch marked")
+    dg.add_argument("--hypotheses", help=f"comma-separated physics to try (default all: {physics})")
     dg.add_argument("-q", "--quiet", action="store_true", help="no progress or summary")
     from .study.query import add_query_parser
 
@@ -223,10 +226,21 @@ def _diagnose(args) -> int:
         check_writable(Path(args.figure), key="--figure", suffixes=(".png",))
     if args.trials and args.recording:
         raise InputError("give recording files or --trials, not both", key="recording")
+    names = None if args.hypotheses is None else [h.strip() for h in args.hypotheses.split(",") if h.strip()]
+    if names == []:
+        from .diagnose.hypotheses import HYPOTHESES
+
+        raise InputError(f"give one or more of: {', '.join(HYPOTHESES)}", key="--hypotheses")
     with _w.catch_warnings():
         _w.simplefilter("ignore", PlausibilityWarning)
-        res = diagnose(args.model, args.recording or None, channels=args.channels, trials=args.trials,
-                       report=args.report, output=args.output, figure=args.figure, progress=not args.quiet)
+        try:
+            res = diagnose(args.model, args.recording or None, channels=args.channels, trials=args.trials,
+                           report=args.report, output=args.output, figure=args.figure, progress=not args.quiet,
+                           hypotheses=names)
+        except InputError as err:
+            if err.key == "hypotheses":  # the option's name, as the user typed it
+                raise InputError(err.message, key="--hypotheses") from None
+            raise
     if not args.quiet:
         print(res.summary())
         print(f"  report: {args.report}; model: {res.augmented_model}")

@@ -5,12 +5,12 @@ hundred), a fit's Jacobian (samples x parameters, parameters below 20).  On them
 OpenBLAS thread does not help: it spins beside the caller and hands work back and forth, and
 beside other work (diagnose's worker processes, a study's workers, a busy machine) it
 competes for the cores.  Measured: a matrix exponential of 122 x 122 in 187 ms instead of
-1.9 ms; the whole ``calibrate`` of ``benchmarks.calibration`` in 0.98 s instead of 0.33 s
+1.9 ms; the whole ``calibrate`` of ``benchmarks.calibration`` in 0.96 s instead of 0.37 s
 (``python -m benchmarks.blas_threads``).
 
-``one_thread()`` (and the decorator ``single_threaded``) limits every loaded BLAS to one thread for the duration of a ``with`` block
-and restores the caller's setting after it, through ``threadpoolctl`` (the maintained library
-scikit-learn uses for this).  Finding the loaded libraries is the slow part (about 1 ms), so it
+``one_thread()`` (and the decorator ``single_threaded``) limits every loaded BLAS to one thread
+for the duration of a ``with`` block and restores the caller's setting after it, through
+``threadpoolctl`` (the maintained library scikit-learn uses for this).  Finding the loaded libraries is the slow part (about 1 ms), so it
 is done once, after importing SciPy's linear algebra so that SciPy's own OpenBLAS is among them.
 """
 

@@ -10,9 +10,9 @@
    different storey-stiffness changes, which no storey factor can give); then soil-structure
    interaction alone is fitted, with the base parameters, under the same acceptance rule.
 3. The recalibrated residual located (``locate.py``): channels, windows, bands.
-4. Each hypothesis (``hypotheses/``, one file each) added to the base model as given and its own parameters
-   fitted (the base ones stay nominal: a missing effect is told from wrong parameters by which
-   of the two explains the data with fewer parameters), from the best of three starts.
+4. Each hypothesis (``hypotheses/``, one file each) added to the base model as given and its own
+   parameters fitted (the base ones stay nominal: a missing effect is told from wrong parameters
+   by which of the two explains the data with fewer parameters), from the best of three starts.
    It is accepted only if it lowers the Bayesian information criterion computed with the
    residual's effective sample size (n_eff from its lag-1 autocorrelation, as the
    calibration's uncertainties; Schwarz 1978): BIC = n_eff ln(RSS / n) + p ln(n_eff), by more

@@ -256,7 +256,7 @@ def calibrate_observer(observer, params, progress=True, max_evaluations=None, wr
     blind = _not_identified(fit.jac, [p.path for p in params], observer)
     for k, p in enumerate(params):
         sd = xs[k] * sd_y[k] if p.log else sd_y[k]
-        at_bound = bool(fit.active_mask[k] != 0)
+        at_bound = ended_at_bound(a[k] + b[k] * fit.x[k], lo[k], hi[k], fit.active_mask[k])
         out[p.path] = dict(value=xs[k], start=p.start, stderr=float(sd) if p.path not in blind else math.inf,
                            lo=p.lo, hi=p.hi, at_bound=at_bound, factor=p.factor, identified=p.path not in blind,
                            reason=blind.get(p.path, ""))
@@ -267,6 +267,17 @@ def calibrate_observer(observer, params, progress=True, max_evaluations=None, wr
                              evaluations=observer.evaluations, seconds=time.perf_counter() - t0, model_text=text,
                              n=n, n_eff=n_eff, success=bool(fit.success), message=str(fit.message), history=history,
                              converged=bool(fit.status > 0), noise_ne=noise_ne(observer))
+
+
+AT_BOUND = 1e-4  # a value within this fraction of its (log-)range of a bound ended at that bound
+
+
+def ended_at_bound(y: float, lo: float, hi: float, active: int = 0) -> bool:
+    """Whether a fitted (log-)value ``y`` in [lo, hi] ended at a bound: least squares' active set says so, or it
+    lies within AT_BOUND of the range from one.  The trust-region method keeps its iterates strictly inside
+    the bounds, so a parameter the data push onto a bound (a yield drift at "never yields") ends a hair inside
+    it with the active set empty, and its standard error would read as if the data placed it there."""
+    return bool(active != 0) or min(y - lo, hi - y) <= AT_BOUND * (hi - lo)
 
 
 FAR = 3.0  # a fit ending above this many times the noise's NE is said to be far above the noise

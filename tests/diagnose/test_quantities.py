@@ -56,3 +56,18 @@ def test_delta_method_and_not_identified():
     assert q["stderr"] is None and "do not constrain" in q["reason"]
     q = _delta(_fit(2.0, 1.2), "a", "-", lambda x: x["a"], ["a"])  # an interval that reaches zero
     assert q["stderr"] is None and "do not determine" in q["reason"]
+
+
+def test_a_value_a_hair_inside_a_bound_ended_at_it():
+    """least_squares' trust region keeps its iterates inside the bounds: a yield drift pushed onto "never yields"
+    (5 in 0.0005..5, log-fitted) ended at 4.999996 with an empty active set, in a held-out case."""
+    import math
+
+    from seispound.calibrate.fit import ended_at_bound
+
+    lo, hi = math.log(0.0005), math.log(5.0)
+    assert ended_at_bound(math.log(4.999996), lo, hi)
+    assert ended_at_bound(math.log(0.0005000001), lo, hi)
+    assert not ended_at_bound(math.log(4.99), lo, hi)  # 2.2e-4 of the range inside: a value the data set
+    assert not ended_at_bound(math.log(0.02), lo, hi)
+    assert ended_at_bound(math.log(0.02), lo, hi, active=1)

@@ -80,7 +80,7 @@ class Parts:
         ``make()``'s, kept beside it."""
         with self._lock:
             key = self._ids.get(id(building))
-            if key is None:  # let go since the caller asked owns(): laid out, not kept
+            if key is None:  # not kept here (read afresh, or let go): laid out, not kept
                 return make()
             layouts = self._kept[key][1]
             lay = layouts.get((start, faces))

@@ -343,10 +343,8 @@ def assemble(buildings, gaps, default_law=None, parts=None) -> SystemArrays:
     for i, b in enumerate(buildings):
         first.append(n)
         faces = (i > 0, i < len(buildings) - 1)
-        if parts is not None and parts.owns(b):
-            lay = parts.layout(b, n, faces, lambda: building_layout(b, n, S.N_PAR, faces))  # noqa: B023
-        else:
-            lay = building_layout(b, n, S.N_PAR, faces=faces)
+        make = lambda: building_layout(b, n, S.N_PAR, faces)  # noqa: E731, B023 (called at once)
+        lay = make() if parts is None else parts.layout(b, n, faces, make)  # (a building it does not keep: made)
         layouts.append(lay)
         n += len(lay.mass)
     cat = lambda name, dtype=float: np.asarray([x for lay in layouts for x in getattr(lay, name)], dtype)  # noqa

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import sys
 from pathlib import Path
 
@@ -27,7 +29,8 @@ _ANALYSIS = {"dt", "duration", "newmark", "contact_substeps", "rtol", "max_iter"
 _NEWMARK = {"beta", "gamma"}
 _GROUND = {"file", "format", "dt", "trace", "units", "scale", "calibration", "baseline"}
 _BUILDING = {"name", "floors", "floor_masses", "storey_stiffness", "storey_heights", "damping",
-             "initial_velocity", "position", "ground_motion", "storey_law", "foundation", "floor_model"}
+             "initial_velocity", "position", "ground_motion", "storey_law", "foundation", "floor_model",
+             "storey_stiffness_taper"}
 _FLOOR_MODEL = {"kind", "segments", "length", "axial_stiffness", "youngs_modulus", "area", "axial_damping", "sensor",
                 "attachment"}
 _ATTACHMENT = {"mass", "joint_stiffness", "joint_damping"}
@@ -199,6 +202,9 @@ def _building(b, idx: int, base) -> Building:
         elif isinstance(val, list) and floors is not None and len(val) != floors:
             raise InputError(f"has {len(val)} entries but floors = {floors}", key=f"{key}.{fld}")
         fields[fld] = val
+    if "storey_stiffness_taper" in b:
+        fields["storey_stiffness"] = _tapered(fields["storey_stiffness"], b["storey_stiffness_taper"],
+                                              f"{key}.storey_stiffness_taper")
     damping = _damping(b.get("damping", {"kind": "rayleigh"}), f"{key}.damping")
     motion = _building_motion(b["ground_motion"], f"{key}.ground_motion", base) if "ground_motion" in b else None
     storey_law = _storey_law(b["storey_law"], f"{key}.storey_law") if "storey_law" in b else None
@@ -210,6 +216,44 @@ def _building(b, idx: int, base) -> Building:
 
 
 # -- helpers ---------------------------------------------------------------------------
+def _tapered(stiffness, taper, key: str) -> list:
+    """The storey stiffnesses [N/m] times a smooth factor over the height, 1 at the first storey.
+
+    ``taper`` is the top storey's factor r (a number: storey i of N times r^x, x = (i - 1) / (N - 1), a
+    geometric taper), or a table ``{ top = r, middle = m }`` whose log-factor is the quadratic through 1 at
+    the first storey, m at mid-height (x = 1/2) and r at the top: ln f(x) = (4 ln m - ln r) x +
+    (2 ln r - 4 ln m) x^2 (derived here; m = sqrt(r) is the geometric taper).  One or two numbers that a
+    study or a fit can vary (``building.A.storey_stiffness_taper.top``); log-smooth so that every positive
+    value keeps every storey's stiffness positive.
+    """
+    if isinstance(taper, dict):
+        _check_keys(taper, {"top", "middle"}, key)
+        if "top" not in taper:
+            raise InputError("is required (the top storey's factor)", key=f"{key}.top")
+        top, mid = taper["top"], taper.get("middle")
+        for name, v in (("top", top), ("middle", mid)):
+            if v is not None and (not _number(v) or not math.isfinite(v) or not v > 0):
+                raise InputError(f"must be a number > 0 (1: no taper), got {v!r}", key=f"{key}.{name}")
+    elif not _number(taper) or not math.isfinite(taper) or not taper > 0:
+        raise InputError(f"must be a number > 0 (the top storey's factor; 1: no taper) or a table "
+                         f"{{ top, middle }}, got {taper!r}", key=key)
+    else:
+        top, mid = taper, None
+    if not isinstance(stiffness, list):
+        raise InputError("needs the storey stiffnesses as a list, or floors = N with one value", key=key)
+    n = len(stiffness)
+    if n < 2:
+        raise InputError("needs a building of two or more storeys", key=key)
+    lt = math.log(float(top))
+    lm = 0.5 * lt if mid is None else math.log(float(mid))
+    a, b = 4.0 * lm - lt, 2.0 * lt - 4.0 * lm
+    out = []
+    for i, k in enumerate(stiffness):
+        x = i / (n - 1)
+        out.append(float(k) if i == 0 else float(k) * math.exp(a * x + b * x * x))
+    return out
+
+
 def _record_spec(g: dict, key: str, base) -> GroundMotionSpec:
     """A record's settings (``[ground_motion]`` or a building's own ``ground_motion``) as a GroundMotionSpec."""
     if "file" not in g or not isinstance(g["file"], str) or not g["file"]:

@@ -1,5 +1,8 @@
 """Wrong parameters beyond what recalibration spans: the storeys' stiffness distributed otherwise over the height.
 
+Two forms: the first and the top storey's stiffness set free of the building's factor (a soft first storey, a
+soft or stiff top), and a smooth (log-quadratic) taper over the height (``storey_stiffness_taper``).
+
 Fitted beside the physics (an alternative, not a physics), so that a model whose parameters are wrong in a
 way a factor cannot fix is not mistaken for missing physics (a soft first storey is a sway spring under the
 base to within its radiation damping).
@@ -28,6 +31,25 @@ def _stiffness_profile(d):
     return specs, null
 
 
+def _stiffness_taper(d):
+    # a stiffness that falls (or rises) smoothly over the height than modelled: each building of two or more
+    # storeys times a log-quadratic factor (storey_stiffness_taper: its value at mid-height and at the top, 1/4 to
+    # 4; the top's alone for two storeys), fitted with the building's factor on the whole: a linear or otherwise
+    # smooth redistribution is near one of these
+    specs, null = [], {}
+    for b in d["building"]:
+        k = b["storey_stiffness"]
+        n = len(k) if isinstance(k, list) else int(b.get("floors", 1))
+        if n < 2 or "storey_stiffness_taper" in b:
+            continue
+        path = f"building.{b['name']}.storey_stiffness_taper"
+        b["storey_stiffness_taper"] = {"top": 1.0, "middle": 1.0} if n >= 3 else {"top": 1.0}
+        for key in b["storey_stiffness_taper"]:
+            specs.append(f"{path}.{key}=0.25:4.0")
+            null[f"{path}.{key}"] = 1.0
+    return specs, null
+
+
 def _why_not(d):
     multi = [b for b in d.get("building", []) if int(b.get("floors", 1)) >= 2 or
              (isinstance(b.get("storey_stiffness"), list) and len(b["storey_stiffness"]) >= 2)]
@@ -37,4 +59,4 @@ def _why_not(d):
 HYPOTHESIS = Hypothesis(
     "stiffness-distribution", "the storeys' stiffness distributed otherwise over the height than modelled",
     "a building's modes off in ratio to one another, which one stiffness factor cannot set right",
-    forms=(_stiffness_profile,), why_not=_why_not, alternative=True)
+    forms=(_stiffness_profile, _stiffness_taper), why_not=_why_not, alternative=True)

@@ -4,7 +4,10 @@ The file was written by ``python -m tests.integrate.kernel_reference`` (the ener
 hysteretic column, zero on these rows); a refactoring must reproduce it to 1e-12 relative to each
 array's largest entry.  It was rewritten, by an unchanged integrator, when numpy 2.4 / scipy 1.17 /
 numba 0.68 moved its outputs by up to 3e-9 on the row of three under NIVe (pounding amplifies
-round-off differences of 1e-16: this is a regression guard of one environment, not verification).
+round-off differences of 1e-16: this is a regression guard of one environment, not verification),
+and again, by an unchanged integrator (the session's first commit fails the old file the same way), when a fresh
+install of numpy 2.4.6 / scipy 1.17.1 / numba 0.68.1 moved them by up to 2.8e-9 on that row (7.6e-11 in its
+displacements); the rewritten file pins the kernel's peak forces as they are now.
 Peak forces (per gap and per impact) are the one deliberate change since: the pinned ones are
 the largest force sample, the kernel's now the vertex of the parabola through the samples around
 it (``_contact._peak_through``), never below the largest sample (at most 2 % above it here, on a

@@ -1,9 +1,9 @@
-"""Contact elements: the onset of an impact (law state and catalogue row), the contact groups and the
-condensed Newton iteration on the forces of the closed gaps.
+"""Impacts: their onset and end (the law's onset hook, the catalogue row), their substeps, the contact groups.
 
-A contact law (``seispound.contact._scalar``) knows only the penetration, its
-rate and the per-impact state set at onset; this module links it to the two
-DOFs of each gap.
+A contact law (``seispound.contact._scalar``, through the material protocol ``_material``)
+knows only the penetration, its rate and the per-impact state set at onset; the gap element
+knows its two DOFs (``_elements._gap_kinematics``); the Newton iteration on the closed gaps'
+forces is ``_newton``.
 """
 
 from __future__ import annotations
@@ -13,18 +13,8 @@ import math
 import numpy as np
 from seispound._jit import njit
 
-from ..contact._scalar import (
-    NIVE,
-    P_EXPONENT,
-    P_K,
-    P_MEFF,
-    P_TENSION,
-    contact_duration,
-    contact_force,
-    law_force,
-    onset_state,
-)
-from ._linear import _dense_solve
+from ..contact._scalar import NIVE, contact_duration, contact_force
+from ._material import ST_E, ST_ZETA, material_onset
 
 # NIVe's damping c-bar ~ delta^(1/4) makes the force rise like t^(1/4) at first
 # contact; its first substeps are graded (1/2^ONSET_GRADING of the regular
@@ -114,77 +104,6 @@ def _end_impact(g, t, rg, m_act, act_list, active, cur_imp, imp_t0, imp_dur, imp
     return m_act
 
 
-@njit(cache=True, inline="always")
-def _gap_kinematics(xi, dxi, xj, dxj, vi, dvi, vj, dvj, size, gu, gv):
-    """Deformation of a gap element: penetration [m] and its rate [m/s], positive on approach.
-
-    delta = (x_i + u_g,i) - (x_j + u_g,j) - size, rate = (v_i + v_g,i) - (v_j + v_g,j):
-    x = xi + dxi, v = vi + dvi are the two floors' displacements and velocities
-    relative to the ground under each (i the left floor, j the right one; a
-    trial step passes its start and increment separately, summed here in one
-    fixed order so that every caller gets the same rounding); gu = u_g,i - u_g,j
-    and gv = v_g,i - v_g,j the differential ground motion (zero under one
-    ground motion), so that the penetration is that of the absolute positions.
-    """
-    return xi + dxi - xj - dxj - size + gu, vi + dvi - vj - dvj + gv
-
-
-@njit(cache=True, inline="always")
-def _gap_deformation(u, v, i, j, size, gu, gv):
-    """:func:`_gap_kinematics` of the gap between DOFs i and j for the state (u, v)."""
-    return _gap_kinematics(u[i], 0.0, u[j], 0.0, v[i], 0.0, v[j], 0.0, size, gu, gv)
-
-
-@njit(cache=True, inline="always")
-def _gap_trial(u, Du, Vv, cc, i, j, size, gu, gv):
-    """:func:`_gap_kinematics` at the end of a trial step: u + Du, velocity Vv + cc Du (Newmark's)."""
-    return _gap_kinematics(u[i], Du[i], u[j], Du[j], Vv[i], cc * Du[i], Vv[j], cc * Du[j], size, gu, gv)
-
-
-@njit(cache=True, inline="always")
-def _newton(lo, hi, act_list, Gm, dl, rl, Fm, cc, gap_law, gap_par, zeta, scale, rtol, max_iter,
-            resv, kt, Sm, ym):
-    """Newton-Raphson on the forces Fm[lo:hi] of one group of gaps in contact (module docstring).
-
-    The penetration and rate of gap q are dl[q] - (G F)_q and rl[q] - cc (G F)_q
-    (G = B^T K_hat^-1 B restricted to the group, Gm[lo:hi, lo:hi]); the
-    residual F - F_law is tested against rtol times the largest of ``scale``
-    and the forces.  Returns (converged, iterations beyond the first evaluation).
-    """
-    m = hi - lo
-    it = 0
-    while True:
-        rn = 0.0
-        sc = scale
-        for q in range(lo, hi):
-            g = act_list[q]
-            s1 = 0.0
-            for r in range(lo, hi):
-                s1 += Gm[q, r] * Fm[r]
-            # (the parameters as scalars: a view gap_par[g] would cost two atomic
-            # reference-count updates per evaluation)
-            Fg, dFd, dFv = law_force(gap_law[g], gap_par[g, P_K], gap_par[g, P_EXPONENT], gap_par[g, P_MEFF],
-                                     gap_par[g, P_TENSION], dl[q] - s1, rl[q] - cc * s1, zeta[g])
-            resv[q] = Fm[q] - Fg
-            kt[q] = dFd + cc * dFv
-            rn = max(rn, abs(resv[q]))
-            sc = max(sc, abs(Fg))
-        if rn <= rtol * sc:
-            return True, it
-        if it >= max_iter:
-            return False, it
-        it += 1
-        # Newton: (I + diag(kt) G) dF = -res, on the group (local indices in Sm, ym)
-        for q in range(lo, hi):
-            for r in range(lo, hi):
-                Sm[q - lo, r - lo] = kt[q] * Gm[q, r]
-            Sm[q - lo, q - lo] += 1.0
-            ym[q - lo] = -resv[q]
-        _dense_solve(m, Sm, ym)
-        for q in range(lo, hi):
-            Fm[q] += ym[q - lo]
-
-
 @njit(cache=True)
 def _group_contacts(m, act_list, gap_lo, gap_hi, comp_off):
     """Order the m closed gaps into groups that share no building; return the number of groups.
@@ -222,13 +141,16 @@ def _group_contacts(m, act_list, gap_lo, gap_hi, comp_off):
 
 
 @njit(cache=True)
-def _begin_impact(g, t, dg, rg, code, par, n_sub, active, zeta, hsub, age, cur_imp,
+def _begin_impact(g, t, dg, rg, code, par, n_sub, active, zeta, st_c, hsub, age, cur_imp,
                   n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_e, imp_fmax, imp_dur, imp_vout):
-    """Open impact number ``n_imp`` at gap g: the law's onset hook fixes its damping (and the e it
-    comes from) from the approach velocity rg; size its substeps, start its catalogue row; return its
-    onset force."""
+    """Open impact number ``n_imp`` at gap g: the law's onset hook (``_material.material_onset``)
+    commits its damping and the e it comes from, set by the approach velocity rg, to row g of the
+    state table st_c (and zeta[g]); size its substeps, start its catalogue row; return its onset
+    force."""
     active[g] = True
-    zeta[g], imp_e[n_imp] = onset_state(code, par, rg)
+    material_onset(code, par, rg, st_c[g])
+    zeta[g] = st_c[g, ST_ZETA]
+    imp_e[n_imp] = st_c[g, ST_E]
     # n_sub = (substeps per impact duration, longest substep [s]: the row's fastest mode's limit), the
     # limit never asking more than MAX_SUBSTEP_FACTOR times the substeps (it costs that much per impact)
     dur = contact_duration(code, par, rg)

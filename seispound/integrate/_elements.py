@@ -129,3 +129,33 @@ def strain_energy(le_dof, le_coef, le_k, u):
         w = _dot(le_dof, le_coef, e, u)
         s += 0.5 * le_k[e] * w * w
     return s
+
+
+# -- the two-node gap element of the fast driver (floor i against floor j) --------------------
+
+
+@njit(cache=True, inline="always")
+def _gap_kinematics(xi, dxi, xj, dxj, vi, dvi, vj, dvj, size, gu, gv):
+    """Deformation of a gap element: penetration [m] and its rate [m/s], positive on approach.
+
+    delta = (x_i + u_g,i) - (x_j + u_g,j) - size, rate = (v_i + v_g,i) - (v_j + v_g,j):
+    x = xi + dxi, v = vi + dvi are the two floors' displacements and velocities
+    relative to the ground under each (i the left floor, j the right one; a
+    trial step passes its start and increment separately, summed here in one
+    fixed order so that every caller gets the same rounding); gu = u_g,i - u_g,j
+    and gv = v_g,i - v_g,j the differential ground motion (zero under one
+    ground motion), so that the penetration is that of the absolute positions.
+    """
+    return xi + dxi - xj - dxj - size + gu, vi + dvi - vj - dvj + gv
+
+
+@njit(cache=True, inline="always")
+def _gap_deformation(u, v, i, j, size, gu, gv):
+    """:func:`_gap_kinematics` of the gap between DOFs i and j for the state (u, v)."""
+    return _gap_kinematics(u[i], 0.0, u[j], 0.0, v[i], 0.0, v[j], 0.0, size, gu, gv)
+
+
+@njit(cache=True, inline="always")
+def _gap_trial(u, Du, Vv, cc, i, j, size, gu, gv):
+    """:func:`_gap_kinematics` at the end of a trial step: u + Du, velocity Vv + cc Du (Newmark's)."""
+    return _gap_kinematics(u[i], Du[i], u[j], Du[j], Vv[i], cc * Du[i], Vv[j], cc * Du[j], size, gu, gv)

@@ -14,7 +14,7 @@ import numpy as np
 from seispound._jit import njit
 
 from ..contact.codes import NONE
-from ._contact import _gap_trial
+from ._elements import _gap_trial
 from ._ground import GU1, GV1
 
 # A located step ends on its event when |delta| <= LAND_TOL x the step's travel.

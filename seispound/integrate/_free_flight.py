@@ -13,7 +13,7 @@ import numpy as np
 from seispound._jit import njit
 
 from ..contact._scalar import NONE
-from ._contact import _gap_deformation
+from ._elements import _gap_deformation
 from ._energy import _block_energy, _block_energy_exact
 from ._events import LAND_TOL, _event_in_step
 from ._exact import F_QQ, F_QV, F_VQ, F_VV, G0_Q, G0_V, G1_Q, G1_V, exact_coefficients, exact_step

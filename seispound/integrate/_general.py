@@ -58,6 +58,7 @@ from ._linear import _dense_solve, _factor_band, _solve_range
 from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY
 from ._material import (ST_DELTA, ST_E, ST_EPS, ST_PLASTIC, ST_Z, ST_ZETA, bouc_wen_path, material_commit,
                         material_energy, material_trial)
+from ._newton import _newton, _trial
 from ._outputs import (
     E_CONTACT,
     E_DAMPING,
@@ -207,51 +208,6 @@ def _columns(Lf, p, ne_dof, ne_coef, ne_lo, ne_hi, act, m, W, W_ok):
         _scatter(ne_dof, ne_coef, q, 1.0, W[q])
         _solve_range(Lf, p, W[q], W[q], ne_lo[q], ne_hi[q])
         W_ok[q] = True
-
-
-@njit(cache=True, inline="always")
-def _trial(ne_code, ne_par, st_c, st_t, q, k, s1, dl, rl, cc, Fm, resv, kt):
-    """Element q's law at its linear-step deformation less s1 = (G F)_q: the residual F - f and the
-    consistent tangent d f/d delta + cc d f/d rate into resv[k] and kt[k]; returns f [N]."""
-    f, dfd, dfv = material_trial(ne_code[q], ne_par, st_c, st_t, q, dl[k] - s1, rl[k] - cc * s1)
-    resv[k] = Fm[k] - f
-    kt[k] = dfd + cc * dfv
-    return f
-
-
-@njit(cache=True)
-def _newton(lo, hi, act, Gm, dl, rl, Fm, cc, ne_code, ne_par, st_c, st_t, scale, rtol, max_iter, resv, kt, Sm, ym):
-    """Newton-Raphson on the forces Fm[lo:hi] of one group of active elements (module docstring).
-
-    Each element's law is evaluated by ``material_trial`` from its committed
-    state st_c into st_t.  Returns (converged, iterations beyond the first evaluation).
-    """
-    m = hi - lo
-    it = 0
-    while True:
-        rn = 0.0
-        sc = scale
-        for k in range(lo, hi):
-            q = act[k]
-            s1 = 0.0
-            for r in range(lo, hi):
-                s1 += Gm[k, r] * Fm[r]
-            f = _trial(ne_code, ne_par, st_c, st_t, q, k, s1, dl, rl, cc, Fm, resv, kt)
-            rn = max(rn, abs(resv[k]))
-            sc = max(sc, abs(f))
-        if rn <= rtol * sc:
-            return True, it
-        if it >= max_iter:
-            return False, it
-        it += 1
-        for k in range(lo, hi):
-            for r in range(lo, hi):
-                Sm[k - lo, r - lo] = kt[k] * Gm[k, r]
-            Sm[k - lo, k - lo] += 1.0
-            ym[k - lo] = -resv[k]
-        _dense_solve(m, Sm, ym)
-        for k in range(lo, hi):
-            Fm[k] += ym[k - lo]
 
 
 @njit(cache=True, inline="always")
@@ -920,10 +876,8 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
         elif d0[q] > 0.0 or (d0[q] == 0.0 and r0[q] > 0.0):
             if n_imp >= cap:
                 return IMPACT_CAPACITY, n_imp, t
-            _begin_impact(q, t, d0[q], r0[q], ne_code[q], ne_par[q], n_sub, active, zeta, hsub, age, cur_imp,
+            _begin_impact(q, t, d0[q], r0[q], ne_code[q], ne_par[q], n_sub, active, zeta, st_c, hsub, age, cur_imp,
                           n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_e, imp_fmax, imp_dur, imp_vout)
-            st_c[q, ST_ZETA] = zeta[q]
-            st_c[q, ST_E] = imp_e[n_imp]
             n_imp += 1
         if active[q]:
             act[m_act] = q
@@ -1110,11 +1064,9 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
                 if not active[q]:
                     if n_imp >= cap:
                         return IMPACT_CAPACITY, n_imp, t
-                    F[q] = _begin_impact(q, t, d0[q], r0[q], ne_code[q], ne_par[q], n_sub, active, zeta, hsub,
+                    F[q] = _begin_impact(q, t, d0[q], r0[q], ne_code[q], ne_par[q], n_sub, active, zeta, st_c, hsub,
                                          age, cur_imp, n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_e, imp_fmax,
                                          imp_dur, imp_vout)
-                    st_c[q, ST_ZETA] = zeta[q]
-                    st_c[q, ST_E] = imp_e[n_imp]
                     fmax[q] = max(fmax[q], F[q])
                     n_imp += 1
                     act[m_act] = q

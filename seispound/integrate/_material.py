@@ -3,7 +3,7 @@
 After OpenSees's UniaxialMaterial (setTrialStrain / getStress / getTangent /
 commitState / revertToLastCommit): a law knows only its deformation, its rate
 and its state; the element that links two DOFs computes the deformation
-(``_contact._gap_kinematics`` for a gap); the driver knows neither.
+(``_elements._gap_kinematics`` for a gap); the driver knows neither.
 
 * ``material_onset(code, par, v0, state)``: per-event quantities (an impact's
   damping and restitution, from its approach velocity v0), written to the
@@ -26,8 +26,8 @@ calls the law twice per element and step.
 State rows have N_STATE entries.  Contact laws (codes of ``contact.codes``)
 keep (zeta, e) set at onset and do not change within an impact.  Hysteretic
 storey laws: BILINEAR (kinematic hardening) and BOUC_WEN (smooth, Bouc 1967,
-Wen 1976).  The general driver (``_general.py``) calls every law through this
-protocol; the fast driver calls the contact branch directly.  Free flight with
+Wen 1976).  Both drivers call every law through this protocol (``_contact._begin_impact``
+for the onset, ``_newton`` for the trials).  Free flight with
 Bouc-Wen storeys (``_general._bouc_wen_flight``) carries z along a step's path
 with ``bouc_wen_path`` and commits the state it reached.
 """

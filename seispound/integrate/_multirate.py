@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 from seispound._jit import njit
 
-from ._contact import _gap_kinematics
+from ._elements import _gap_kinematics
 from ._newmark_step import _linear_trial
 
 # Buildings wait (multi-rate stepping) by default only when they hold at least this share

@@ -1,5 +1,5 @@
 """The general driver's banded-tangent Newton (``_general._newton_tangent``) against its dense
-condensed Newton (``_general._newton``, ``tangent=False``): the off switch.
+condensed Newton (``_newton._newton``, ``tangent=False``): the off switch.
 
 Both iterate on the same condensed residual of the active elements' forces to the same tolerance
 (rtol 1e-10 of the largest force); the tangent path solves each Newton update through the banded

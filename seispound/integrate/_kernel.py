@@ -82,20 +82,12 @@ method balances exactly: input = kinetic + strain + damping + contact.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from seispound._jit import njit
 
-from ..contact._scalar import NIVE, NONE, contact_force
+from ..contact._scalar import NONE, contact_force
 from ._borrow import borrow, keep_alive
-from ._contact import (
-    ONSET_GRADING,
-    _begin_impact,
-    _end_impact,
-    _group_contacts,
-    _peak_through,
-)
+from ._contact import _begin_impact, _contact_step, _end_impact, _group_contacts, _peak_through
 from ._elements import _gap_deformation, _gap_kinematics, _gap_trial
 from ._events import LAND_TOL, _event_in_step, _screen_step
 from ._exact import exact_coefficients
@@ -554,30 +546,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
             for rr in range(n_run):
                 n_s_dof += r_hi[rr] - r_lo[rr]
         while t_end - t > 1e-9 * dt:
-            # (the step of _contact._contact_step, written out: called or inlined from there it measured
-            # 2.6-4.5 % slower on the canonical row in same-process A/B runs)
-            remaining = t_end - t
-            h = remaining
-            lev = 0
-            for q in range(m_act):
-                g = act_list[q]
-                lg = 0
-                while lg < n_lev - 1 and h_lev[lg] > hsub[g]:
-                    lg += 1
-                if gap_law[g] == NIVE and age[g] < ONSET_GRADING:
-                    lg = min(lg + ONSET_GRADING - age[g], n_lev - 1)
-                lev = max(lev, lg)
-            if lev > 0:
-                # next point of the dt/2^lev grid inside this analysis step
-                hl = h_lev[lev]
-                t_start = t_end - dt
-                # (tolerant rounding: t carries round-off, never take a sliver step)
-                nxt = t_start + (math.floor((t - t_start) / hl + 1e-6) + 1.0) * hl
-                if nxt - t < 1e-3 * hl:
-                    nxt += hl
-                h = min(nxt - t, remaining)
-                if remaining - h < 1e-3 * hl:
-                    h = remaining  # absorb a sliver rather than step over it alone
+            h, lev = _contact_step(t, t_end, dt, m_act, act_list, gap_law, hsub, age, h_lev, n_lev, 0)
             target = -1
             if aim_gap >= 0:
                 ga = aim_gap

@@ -63,6 +63,18 @@ def _contact_step(t, t_end, dt, m_act, act_list, code, hsub, age, h_lev, n_lev, 
 
 
 @njit(cache=True, inline="always")
+def _grid_level(h, lev, h_lev, dt):
+    """(lv, h): the level of the dt/2^k grid a step of h [s] lies on (lev, the level its step was cut
+    to, or 0 for a whole analysis step) and h snapped to it; (-1, h) for a step off the grid (a
+    located step), which takes a scratch factor.  Both drivers cache A(h) per level."""
+    if abs(h - h_lev[lev]) <= 1e-9 * h:
+        return lev, h_lev[lev]
+    if abs(h - dt) <= 1e-9 * dt:
+        return 0, h_lev[0]
+    return -1, h
+
+
+@njit(cache=True, inline="always")
 def _peak_through(fa, fb, fc, ha, hc):
     """The peak of a contact force between its samples: the vertex of the parabola through
     (-ha, fa), (0, fb), (hc, fc) when fb is a local maximum, else fb.

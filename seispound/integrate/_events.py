@@ -142,6 +142,22 @@ def _crossing_in(lo, hi, f_hi, d0, r0, d1, r1, h, sgn):
 
 
 @njit(cache=True, inline="always")
+def _gap_event(d0, r0, d1, r1, h, closed, landed):
+    """One gap's event in a trial step of length h [s]: (theta, lands) (theta 2: none).
+
+    d0, r0 and d1, r1: its penetration [m] and rate [m/s] at the step's start and end; an open
+    gap may touch, a closed one separate, even within the step (``_event_in_step``).  After a
+    step that ``landed`` on another gap's event, ``lands`` says that this gap is at its own
+    crossing as well within the landing tolerance (identical floors): it switches with that
+    gap, not one attempt later.  Both drivers' screens call it.
+    """
+    tol = LAND_TOL * max(abs(r0), abs(r1)) * h + 1e-15
+    th = _event_in_step(d0, r0, d1, r1, h, not closed, tol)
+    lands = landed and ((d1 >= -tol and r1 > 0.0 and not closed) or (d1 <= tol and r1 < 0.0 and closed))
+    return th, lands
+
+
+@njit(cache=True, inline="always")
 def _screen_step(waiting, scr, n_ss, n_scr, gap_i, gap_j, gap_size, gap_law, active, u, Du, Vv, cc, h, gk,
                  d0, r0, d_end, r_end, landed, target, land_too):
     """The event screen of a trial step of length h: the first event of any gap; (theta, gap, waits, n_land).
@@ -173,13 +189,8 @@ def _screen_step(waiting, scr, n_ss, n_scr, gap_i, gap_j, gap_size, gap_law, act
         r_end[g] = r1
         if gap_law[g] == NONE or (landed and g == target):
             continue
-        tol = LAND_TOL * max(abs(r0[g]), abs(r1)) * h + 1e-15
-        # an open gap may touch, a closed one separate, even within the step
-        th = _event_in_step(d0[g], r0[g], d1, r1, h, not active[g], tol)
-        if landed and not waits and ((d1 >= -tol and r1 > 0.0 and not active[g])
-                                     or (d1 <= tol and r1 < 0.0 and active[g])):
-            # at its own crossing as well, within the landing tolerance (identical
-            # floors): it switches with the target, not one attempt later
+        th, lands = _gap_event(d0[g], r0[g], d1, r1, h, active[g], landed and not waits)
+        if lands:
             land_too[n_land] = g
             n_land += 1
         if th < theta:

@@ -49,10 +49,10 @@ import numpy as np
 from seispound._jit import njit
 
 from ._borrow import borrow, keep_alive
-from ._contact import _begin_impact, _contact_step, _end_impact, _group_contacts, _peak_through
+from ._contact import _begin_impact, _contact_step, _end_impact, _grid_level, _group_contacts, _peak_through
 from ._elements import (_add_to_band, _dot, _scatter, assemble_band, kinetic_energy, linear_bands, linear_forces,
                         mass_times, strain_energy)
-from ._events import LAND_TOL, _event_in_step, _hermite
+from ._events import LAND_TOL, _event_in_step, _gap_event, _hermite
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
 from ._linear import _dense_solve, _factor_band, _solve_range
 from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY
@@ -604,10 +604,8 @@ def _screen(ne_gap, active, d0, r0, d1, r1, h, landed, target, land_too):
     for q in range(ne_gap.size):
         if not ne_gap[q] or (landed and q == target):
             continue
-        tol = LAND_TOL * max(abs(r0[q]), abs(r1[q])) * h + 1e-15
-        th = _event_in_step(d0[q], r0[q], d1[q], r1[q], h, not active[q], tol)
-        if landed and ((d1[q] >= -tol and r1[q] > 0.0 and not active[q])
-                       or (d1[q] <= tol and r1[q] < 0.0 and active[q])):
+        th, lands = _gap_event(d0[q], r0[q], d1[q], r1[q], h, active[q], landed)
+        if lands:
             land_too[n_land] = q
             n_land += 1
         if th < theta:
@@ -940,13 +938,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
             cc = 0.0
             for attempt in range(200):
                 # ---- factor A(h): cached per dt/2^k level, scratch otherwise
-                lv = -1
-                if abs(h - h_lev[lev]) <= 1e-9 * h:
-                    lv = lev
-                elif abs(h - dt) <= 1e-9 * dt:
-                    lv = 0
-                if lv >= 0:
-                    h = h_lev[lv]
+                lv, h = _grid_level(h, lev, h_lev, dt)
                 cm = 1.0 / (beta * h * h)
                 cc = gamma / (beta * h)
                 ok, Lf, W, W_ok = _cached_factor(lv, h, cm, cc, lin, el_b, False, p, cache_A, stats)

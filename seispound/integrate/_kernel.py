@@ -87,7 +87,7 @@ from seispound._jit import njit
 
 from ..contact._scalar import NONE, contact_force
 from ._borrow import borrow, keep_alive
-from ._contact import _begin_impact, _contact_step, _end_impact, _group_contacts, _peak_through
+from ._contact import _begin_impact, _contact_step, _end_impact, _grid_level, _group_contacts, _peak_through
 from ._elements import _gap_deformation, _gap_kinematics, _gap_trial
 from ._events import LAND_TOL, _event_in_step, _screen_step
 from ._exact import exact_coefficients
@@ -570,13 +570,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 # ---- factor K_hat(h): cached per dt/2^k level, scratch otherwise (none for an
                 # exact step with every gap open: the modal step needs no solve)
                 modal_step = exact and m_act == 0
-                lv = -1
-                if abs(h - h_lev[lev]) <= 1e-9 * h:
-                    lv = lev
-                elif abs(h - dt) <= 1e-9 * dt:
-                    lv = 0
+                lv, h = _grid_level(h, lev, h_lev, dt)
                 if lv >= 0:
-                    h = h_lev[lv]
                     if not have_lev[lv] and not modal_step:
                         if not _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[lv]):
                             return NEWTON_FAILED, n_imp, t

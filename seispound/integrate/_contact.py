@@ -153,15 +153,14 @@ def _group_contacts(m, act_list, gap_lo, gap_hi, comp_off):
 
 
 @njit(cache=True)
-def _begin_impact(g, t, dg, rg, code, par, n_sub, active, zeta, st_c, hsub, age, cur_imp,
+def _begin_impact(g, t, dg, rg, code, par, n_sub, active, st_c, hsub, age, cur_imp,
                   n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_e, imp_fmax, imp_dur, imp_vout):
     """Open impact number ``n_imp`` at gap g: the law's onset hook (``_material.material_onset``)
     commits its damping and the e it comes from, set by the approach velocity rg, to row g of the
-    state table st_c (and zeta[g]); size its substeps, start its catalogue row; return its onset
+    state table st_c; size its substeps, start its catalogue row; return its onset
     force."""
     active[g] = True
     material_onset(code, par, rg, st_c[g])
-    zeta[g] = st_c[g, ST_ZETA]
     imp_e[n_imp] = st_c[g, ST_E]
     # n_sub = (substeps per impact duration, longest substep [s]: the row's fastest mode's limit), the
     # limit never asking more than MAX_SUBSTEP_FACTOR times the substeps (it costs that much per impact)
@@ -172,9 +171,9 @@ def _begin_impact(g, t, dg, rg, code, par, n_sub, active, zeta, st_c, hsub, age,
     imp_gap[n_imp] = g
     imp_t0[n_imp] = t
     imp_v0[n_imp] = rg
-    imp_zeta[n_imp] = zeta[g]
+    imp_zeta[n_imp] = st_c[g, ST_ZETA]
     imp_dur[n_imp] = np.nan
     imp_vout[n_imp] = np.nan
-    f0 = contact_force(code, par, dg, rg, zeta[g])[0]
+    f0 = contact_force(code, par, dg, rg, st_c[g, ST_ZETA])[0]
     imp_fmax[n_imp] = max(f0, 0.0)
     return f0

@@ -56,7 +56,7 @@ from ._events import LAND_TOL, _event_in_step, _gap_event, _hermite
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
 from ._linear import _dense_solve, _factor_band, _solve_range
 from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY
-from ._material import (ST_DELTA, ST_E, ST_EPS, ST_PLASTIC, ST_Z, ST_ZETA, bouc_wen_path, material_commit,
+from ._material import (ST_DELTA, ST_EPS, ST_PLASTIC, ST_Z, bouc_wen_path, material_commit,
                         material_energy, material_trial)
 from ._newton import _newton, _trial
 from ._outputs import (
@@ -804,7 +804,6 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     F_old = np.zeros(nn)
     h_old = np.ones(nn)
     active = np.zeros(nn, np.bool_)
-    zeta = np.zeros(nn)
     hsub = np.full(nn, np.inf)  # substep of each closed gap's impact (a storey asks for none)
     age = np.zeros(nn, np.int64)
     cur_imp = -np.ones(nn, np.int64)
@@ -835,7 +834,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
         n_storeys += 0 if ne_gap[q] else 1
     # the work arrays: owned by this tuple (kept alive to the end), used through borrowed aliases
     owners = (cache_A, cache_el, h_lev, LM, u, v, a, Vv, Av, R0, Du, work, flin, flin1, act, comp_off, Gm, Sm, ym,
-              Fm, dl, rl, resv, kt, Aband, T, zt, xt, Wt, gpos, st_c, st_t, F, F1, F_old, h_old, active, zeta, hsub,
+              Fm, dl, rl, resv, kt, Aband, T, zt, xt, Wt, gpos, st_c, st_t, F, F1, F_old, h_old, active, hsub,
               age, cur_imp, d0, r0, d1, r1, toggles, land_too, gk, g_t, g_1, zero, u1, v1, a1, xs, ys, cst, actg,
               compg_off, rise, zs)
     u1, v1, a1, xs, ys, cst = borrow(u1), borrow(v1), borrow(a1), borrow(xs), borrow(ys), borrow(cst)
@@ -848,7 +847,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     Gm, Sm, ym, Fm, dl, rl = borrow(Gm), borrow(Sm), borrow(ym), borrow(Fm), borrow(dl), borrow(rl)
     resv, kt, Aband, T, zt, xt = borrow(resv), borrow(kt), borrow(Aband), borrow(T), borrow(zt), borrow(xt)
     Wt, gpos, st_c, st_t, F, F1 = borrow(Wt), borrow(gpos), borrow(st_c), borrow(st_t), borrow(F), borrow(F1)
-    F_old, h_old, active, zeta = borrow(F_old), borrow(h_old), borrow(active), borrow(zeta)
+    F_old, h_old, active = borrow(F_old), borrow(h_old), borrow(active)
     hsub, age, cur_imp, d0, r0 = borrow(hsub), borrow(age), borrow(cur_imp), borrow(d0), borrow(r0)
     d1, r1, toggles, land_too, gk = borrow(d1), borrow(r1), borrow(toggles), borrow(land_too), borrow(gk)
     g_t, g_1, zero = borrow(g_t), borrow(g_1), borrow(zero)
@@ -874,7 +873,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
         elif d0[q] > 0.0 or (d0[q] == 0.0 and r0[q] > 0.0):
             if n_imp >= cap:
                 return IMPACT_CAPACITY, n_imp, t
-            _begin_impact(q, t, d0[q], r0[q], ne_code[q], ne_par[q], n_sub, active, zeta, st_c, hsub, age, cur_imp,
+            _begin_impact(q, t, d0[q], r0[q], ne_code[q], ne_par[q], n_sub, active, st_c, hsub, age, cur_imp,
                           n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_e, imp_fmax, imp_dur, imp_vout)
             n_imp += 1
         if active[q]:
@@ -1056,7 +1055,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
                 if not active[q]:
                     if n_imp >= cap:
                         return IMPACT_CAPACITY, n_imp, t
-                    F[q] = _begin_impact(q, t, d0[q], r0[q], ne_code[q], ne_par[q], n_sub, active, zeta, st_c, hsub,
+                    F[q] = _begin_impact(q, t, d0[q], r0[q], ne_code[q], ne_par[q], n_sub, active, st_c, hsub,
                                          age, cur_imp, n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_e, imp_fmax,
                                          imp_dur, imp_vout)
                     fmax[q] = max(fmax[q], F[q])

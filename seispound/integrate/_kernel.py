@@ -105,7 +105,7 @@ from ._linear import (
     _subtract_contact,
     _woodbury_columns,
 )
-from ._material import N_STATE, ST_E, ST_ZETA
+from ._material import N_STATE, ST_ZETA
 from ._multirate import _gap_state, _runs, _screen_list, _waiting_commit, _waiting_trial
 from ._newmark_step import _accept_rows, _newmark_predictor
 from ._newton import _newton
@@ -249,7 +249,6 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     toggles = np.empty(ngw, np.int64)  # gaps switched together at one instant
     land_too = np.empty(ngw, np.int64)
     active = np.zeros(ng, np.bool_)
-    zeta = np.zeros(ng)
     st_c = np.zeros((ng, N_STATE))  # the laws' committed and trial states (``_material``: zeta, e at onset)
     st_t = np.zeros((ng, N_STATE))
     hsub = np.zeros(ng)
@@ -342,7 +341,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     # the work arrays: owned by this tuple (kept alive to the end), used through borrowed aliases
     owners = (L_lev, have_lev, h_lev, L_h, u, v, a, fint, fs, fd, Du, R0, Av, Vv, sig_h, Sd_h, Wc_level, Wc_scratch,
               batch, Wc_ok_level, Wc_ok_scratch, dofs, order, pos, span, Kd, xs, Sm, Gm, ym, Fm, dl, rl, resv,
-              act_list, comp_off, toggles, land_too, active, zeta, st_c, st_t, hsub, age, cur_imp, F, F1, F_old, h_old, kt, d0,
+              act_list, comp_off, toggles, land_too, active, st_c, st_t, hsub, age, cur_imp, F, F1, F_old, h_old, kt, d0,
               r0, d_end, r_end, gk, g_t, dof_blk, gb_lo, gb_hi, in_s, was_s, r_lo, r_hi, r_elo, r_ehi,
               w_lo, w_hi, w_elo, w_ehi, scr, g_w0, g_w1, du_w, u_w1, v_w1, a_w1, L_w, zero_n, g_1, mq, mqv, mqa, Qb,
               QVb, QAb, DQb, Pb, Ub, Vb, f_start, s_in, s_out, Eb, md_khinv)
@@ -354,7 +353,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     span, Kd, xs, Sm, Gm, ym = borrow(span), borrow(Kd), borrow(xs), borrow(Sm), borrow(Gm), borrow(ym)
     Fm, dl, rl, resv, act_list = borrow(Fm), borrow(dl), borrow(rl), borrow(resv), borrow(act_list)
     comp_off, toggles, land_too, active = borrow(comp_off), borrow(toggles), borrow(land_too), borrow(active)
-    zeta, hsub, age, cur_imp, F = borrow(zeta), borrow(hsub), borrow(age), borrow(cur_imp), borrow(F)
+    hsub, age, cur_imp, F = borrow(hsub), borrow(age), borrow(cur_imp), borrow(F)
     st_c, st_t = borrow(st_c), borrow(st_t)
     F1, F_old, h_old, kt, d0, r0 = borrow(F1), borrow(F_old), borrow(h_old), borrow(kt), borrow(d0), borrow(r0)
     d_end, r_end, g_t, dof_blk, gb_lo = borrow(d_end), borrow(r_end), borrow(g_t), borrow(dof_blk), borrow(gb_lo)
@@ -384,7 +383,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
         if dg > 0.0 or (dg == 0.0 and rg > 0.0):
             if n_imp >= cap:
                 return IMPACT_CAPACITY, n_imp, t
-            _begin_impact(g, t, dg, rg, gap_law[g], gap_par[g], n_sub, active, zeta, st_c, hsub, age, cur_imp,
+            _begin_impact(g, t, dg, rg, gap_law[g], gap_par[g], n_sub, active, st_c, hsub, age, cur_imp,
                           n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_e, imp_fmax, imp_dur, imp_vout)
             n_imp += 1
     _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd)
@@ -400,7 +399,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
         F[g] = 0.0
         if active[g]:
             dg, rg = _gap_deformation(u, v, gap_i[g], gap_j[g], gap_size[g], 0.0, 0.0)
-            F[g] = contact_force(gap_law[g], gap_par[g], dg, rg, zeta[g])[0]
+            F[g] = contact_force(gap_law[g], gap_par[g], dg, rg, st_c[g, ST_ZETA])[0]
             a[gap_i[g]] -= F[g] / mass[gap_i[g]]
             a[gap_j[g]] += F[g] / mass[gap_j[g]]
             imp_fmax[cur_imp[g]] = max(F[g], 0.0)
@@ -896,7 +895,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 if not active[g]:
                     if n_imp >= cap:
                         return IMPACT_CAPACITY, n_imp, t
-                    F[g] = _begin_impact(g, t, dg, rg, gap_law[g], gap_par[g], n_sub, active, zeta, st_c, hsub,
+                    F[g] = _begin_impact(g, t, dg, rg, gap_law[g], gap_par[g], n_sub, active, st_c, hsub,
                                          age, cur_imp, n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_e,
                                          imp_fmax, imp_dur, imp_vout)
                     if F[g] > fmax[g]:

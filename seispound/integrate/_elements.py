@@ -103,8 +103,29 @@ def linear_forces(KC, u, v, f):
 
 
 @njit(cache=True)
-def mass_times(ms_dof, ms_coef, ms_val, x, y):
-    """y = M x, shape (n,)."""
+def lumped_diagonal(ms_dof, ms_coef, ms_val, n):
+    """M's diagonal [kg], shape (n,), when every mass element is lumped (one DOF, coefficient 1), so that M
+    is diagonal; otherwise an empty array.  ``mass_times`` and ``kinetic_energy`` take it: a loop over
+    the diagonal instead of one over the elements' slots."""
+    md = np.zeros(n)
+    for e in range(ms_val.size):
+        used = 0
+        for k in range(ms_dof.shape[1]):
+            if ms_dof[e, k] >= 0:
+                used += 1
+                if used > 1 or ms_coef[e, k] != 1.0:
+                    return np.zeros(0)
+                md[ms_dof[e, k]] += ms_val[e]
+    return md
+
+
+@njit(cache=True)
+def mass_times(ms_dof, ms_coef, ms_val, md, x, y):
+    """y = M x, shape (n,); md: M's diagonal if M is diagonal, else empty (``lumped_diagonal``)."""
+    if md.size:
+        for i in range(y.size):
+            y[i] = md[i] * x[i]
+        return
     for i in range(y.size):
         y[i] = 0.0
     for e in range(ms_val.size):
@@ -112,9 +133,13 @@ def mass_times(ms_dof, ms_coef, ms_val, x, y):
 
 
 @njit(cache=True)
-def kinetic_energy(ms_dof, ms_coef, ms_val, v):
-    """v^T M v / 2 [J]."""
+def kinetic_energy(ms_dof, ms_coef, ms_val, md, v):
+    """v^T M v / 2 [J]; md: M's diagonal if M is diagonal, else empty (``lumped_diagonal``)."""
     s = 0.0
+    if md.size:
+        for i in range(v.size):
+            s += 0.5 * md[i] * v[i] * v[i]
+        return s
     for e in range(ms_val.size):
         w = _dot(ms_dof, ms_coef, e, v)
         s += 0.5 * ms_val[e] * w * w

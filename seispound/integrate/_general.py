@@ -51,7 +51,7 @@ from seispound._jit import njit
 from ._borrow import borrow, keep_alive
 from ._contact import _begin_impact, _contact_step, _end_impact, _grid_level, _group_contacts, _peak_through
 from ._elements import (_add_to_band, _dot, _scatter, assemble_band, kinetic_energy, linear_bands, linear_forces,
-                        mass_times, strain_energy)
+                        lumped_diagonal, mass_times, strain_energy)
 from ._events import LAND_TOL, _event_in_step, _gap_event, _hermite
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
 from ._linear import _dense_solve, _factor_band, _solve_range
@@ -180,7 +180,7 @@ def _predictor(h, beta, gamma, Lf, p, lin, dof_load, dof_motion, g1, u, v, a, Vv
         Vv[i] = (1.0 - gamma / beta) * v[i] + (1.0 - 0.5 * gamma / beta) * h * a[i]
         Av[i] = -v[i] / (beta * h) - (0.5 / beta - 1.0) * a[i]
     linear_forces(lin[8], u, Vv, R0)
-    mass_times(ms_dof, ms_coef, ms_val, Av, work)
+    mass_times(ms_dof, ms_coef, ms_val, lin[9], Av, work)
     _load(dof_load, dof_motion, g1, Du)
     for i in range(u.size):
         R0[i] = Du[i] - work[i] - R0[i]
@@ -405,33 +405,35 @@ def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs, ys, cst):
         a = start[c]
         nb = start[c + 1] - a
         nx = 2 * nb
-        x = xs[:nx]
         for k in range(nb):  # x0 = [u; v] of the building, contiguous
-            x[k] = u[a + k]
-            x[nb + k] = v[a + k]
-        # 2-D views of the building's maps: the row loops below are plain dot products, which vectorise
-        P = phi[off_x[c]:off_x[c + 1]].reshape((3 * nb, nx))
-        Q0 = G0[off_g[c]:off_g[c + 1]].reshape((3 * nb, nm))
-        Q1 = G1[off_g[c]:off_g[c + 1]].reshape((3 * nb, nm))
-        y = ys[:3 * nb]
-        for r in range(3 * nb):
+            xs[k] = u[a + k]
+            xs[nb + k] = v[a + k]
+        # the maps are row-major in flat arrays: each row's product is a dot product over unit-stride
+        # memory on unsigned subscripts (``_UNSIGNED`` in _linear.py: signed ones made numba's
+        # wraparound turn the vectorised loads into gathers)
+        unx, unm = np.uint64(nx), np.uint64(nm)
+        ox, og = np.uint64(off_x[c]), np.uint64(off_g[c])
+        for r in range(np.uint64(3 * nb)):
             s = 0.0
-            for k in range(nx):
-                s += P[r, k] * x[k]
-            for m in range(nm):
-                s += Q0[r, m] * gs[m] + Q1[r, m] * gs[nm + m]
-            y[r] = s
+            row = ox + r * unx
+            for k in range(unx):
+                s += phi[row + k] * xs[k]
+            row = og + r * unm
+            for m in range(unm):
+                s += G0[row + m] * gs[m] + G1[row + m] * gs[unm + m]
+            ys[r] = s
         for r in range(nb):
-            u1[a + r] = y[r]
-            v1[a + r] = y[nb + r]
-            a1[a + r] = y[nx + r]
-        E = egx[off_e[c]:off_e[c + 1]].reshape((2 * nm, nx))
-        for m in range(2 * nm):
+            u1[a + r] = ys[r]
+            v1[a + r] = ys[nb + r]
+            a1[a + r] = ys[nx + r]
+        oe = np.uint64(off_e[c])
+        for m in range(np.uint64(2 * nm)):
             if gs[m] == 0.0:
                 continue
             s = 0.0
-            for k in range(nx):
-                s += E[m, k] * x[k]
+            row = oe + m * unx
+            for k in range(unx):
+                s += egx[row + k] * xs[k]
             de += gs[m] * s
         for j in range(st_start[c], st_start[c + 1]):  # the bilinear storeys' constant terms
             cj = cst[j]
@@ -672,7 +674,7 @@ def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1
         r1[q] = rs1
         dwh += 0.5 * k * (ds1 * ds1 - ds0 * ds0) - cst[j] * (ds1 - ds0)
     ms_dof, ms_coef, ms_val = lin[0], lin[1], lin[2]
-    dke = kinetic_energy(ms_dof, ms_coef, ms_val, v1) - kinetic_energy(ms_dof, ms_coef, ms_val, v)
+    dke = kinetic_energy(ms_dof, ms_coef, ms_val, lin[9], v1) - kinetic_energy(ms_dof, ms_coef, ms_val, lin[9], v)
     for i in range(u.size):
         u[i] = u1[i]
         v[i] = v1[i]
@@ -759,9 +761,10 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     nn = ne_size.size
     nm = ag.shape[0]
     cap = imp_gap.size
-    # the linear part as elements (assembly) and as the bands of K and C (its forces)
+    # the linear part as elements (assembly), as the bands of K and C (its forces) and M's diagonal if lumped
     lin = (ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c,
-           linear_bands(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, u_init.size))
+           linear_bands(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, u_init.size),
+           lumped_diagonal(ms_dof, ms_coef, ms_val, u_init.size))
     nw = max(nn, 1)
     # -- work arrays -----------------------------------------------------------
     cache_A = _factor_cache(N_LEVELS, n, p, nw)  # A(h)'s factors and their gap columns (``_cached_factor``)
@@ -888,7 +891,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     rec0 = 0.0
     for q in range(nn):
         rec0 += material_energy(ne_code[q], ne_par, st_c, q, d0[q])
-    e_in = kinetic_energy(ms_dof, ms_coef, ms_val, v) + es_lin0 + rec0  # present at t = 0: input
+    e_in = kinetic_energy(ms_dof, ms_coef, ms_val, lin[9], v) + es_lin0 + rec0  # present at t = 0: input
     w_lin = 0.0  # work of the linear elements and dampers
     w_hys = 0.0  # work done on the hysteretic elements
     e_cont = 0.0
@@ -940,9 +943,6 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
                 lv, h = _grid_level(h, lev, h_lev, dt)
                 cm = 1.0 / (beta * h * h)
                 cc = gamma / (beta * h)
-                ok, Lf, W, W_ok = _cached_factor(lv, h, cm, cc, lin, el_b, False, p, cache_A, stats)
-                if not ok:
-                    return NEWTON_FAILED, n_imp, t
                 _ground_all(ag, t + h, dt, g_1)
                 if moving:
                     _gap_ground_all(ne_ground, t + h, dt, gk, GU1)
@@ -967,8 +967,11 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
                                 actg[m_g] = act[k]
                                 m_g += 1
                         grp = (m_g, actg, _group_contacts(m_g, actg, ne_lo, ne_hi, compg_off), compg_off)
-                    else:
-                        Lp, Wp, Wp_ok, pb = Lf, W, W_ok, p
+                    else:  # A(h) is factored only here: a step the elastic predictor keeps never needs it
+                        ok, Lp, Wp, Wp_ok = _cached_factor(lv, h, cm, cc, lin, el_b, False, p, cache_A, stats)
+                        if not ok:
+                            return NEWTON_FAILED, n_imp, t
+                        pb = p
                         grp = (m_act, act, n_comp, comp_off)
                     # (one call site each: both are inlined)
                     _predictor(h, beta, gamma, Lp, pb, lin, dof_load, dof_motion, g_1, u, v, a, Vv, Av, R0, Du, work,
@@ -1139,7 +1142,7 @@ def _output(k, store, u, v, a, g, dof_motion, dof_infl, F, lin, ne_code, ne_par,
             rec += material_energy(ne_code[q], ne_par, st_c, q, delta[q])
     es_lin = strain_energy(le_dof, le_coef, le_k, u)
     out_e[k, E_INPUT] = e_in
-    out_e[k, E_KINETIC] = kinetic_energy(ms_dof, ms_coef, ms_val, v)
+    out_e[k, E_KINETIC] = kinetic_energy(ms_dof, ms_coef, ms_val, lin[9], v)
     out_e[k, E_STRAIN] = es_lin + rec
     out_e[k, E_DAMPING] = w_lin - (es_lin - es_lin0)
     out_e[k, E_CONTACT] = e_cont

@@ -380,6 +380,12 @@ def _deformation(ne_dof, ne_coef, ne_size, q, u, du, v, c, gk, row):
             _dot(ne_dof, ne_coef, q, v) + c * bdu + gk[row + 1, q])
 
 
+@njit(cache=True, inline="always")
+def _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, row):
+    """Deformation and rate of element q at the state (u, v): ``_deformation`` without an increment."""
+    return _dot(ne_dof, ne_coef, q, u) - ne_size[q] + gk[row, q], _dot(ne_dof, ne_coef, q, v) + gk[row + 1, q]
+
+
 @njit(cache=True, fastmath=True)
 def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs, ys, cst):
     """Every building's state after one analysis step with every gap open, and the step's input work [J].
@@ -483,7 +489,7 @@ def _add_rise(gq, base, nb, a, dm, d1, u1, v1, a1):
 
 
 @njit(cache=True)
-def _bouc_wen_flight(ff, el, mat, u, v, u1, v1, a1, gs, gk, zero, h, rise, zs):
+def _bouc_wen_flight(ff, el, mat, u, v, u1, v1, a1, gs, gk, h, rise, zs):
     """Iterate the Bouc-Wen storeys' terms over a free-flight step; (converged, input work [J], storeys' work [J]).
 
     A Bouc-Wen storey's force is k delta - c with c = (1 - alpha) k (delta - z) (``_material``): the
@@ -528,8 +534,8 @@ def _bouc_wen_flight(ff, el, mat, u, v, u1, v1, a1, gs, gk, zero, h, rise, zs):
                 q = st_elem[j]
                 if ne_code[q] != BOUC_WEN:
                     continue
-                ds0, rs0 = _deformation(ne_dof, ne_coef, ne_size, q, u, zero, v, 0.0, gk, GU0)
-                ds1, rs1 = _deformation(ne_dof, ne_coef, ne_size, q, u1, zero, v1, 0.0, gk, GU1)
+                ds0, rs0 = _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, GU0)
+                ds1, rs1 = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
                 ca, cb, cc = _cubic(ds0, rs0, ds1, rs1, h)
                 zm, z1, eps1, pm, p1 = bouc_wen_path(ne_par, q, st_c[q, ST_Z], st_c[q, ST_EPS], ds0, ca, cb, cc)
                 dm_ = _hermite(0.5, ds0, rs0, ds1, rs1, h)
@@ -550,8 +556,8 @@ def _bouc_wen_flight(ff, el, mat, u, v, u1, v1, a1, gs, gk, zero, h, rise, zs):
             q = st_elem[j]
             if ne_code[q] != BOUC_WEN:
                 continue
-            ds0, rs0 = _deformation(ne_dof, ne_coef, ne_size, q, u, zero, v, 0.0, gk, GU0)
-            ds1, rs1 = _deformation(ne_dof, ne_coef, ne_size, q, u1, zero, v1, 0.0, gk, GU1)
+            ds0, rs0 = _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, GU0)
+            ds1, rs1 = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
             dm_ = _hermite(0.5, ds0, rs0, ds1, rs1, h)
             step1, stepm = ds1 - zs[6 * j + 2], dm_ - zs[6 * j + 3]
             pred = max(pred, (abs((1.0 - zs[6 * j + 4]) * stepm) + abs((1.0 - zs[6 * j + 5]) * step1))
@@ -574,8 +580,8 @@ def _bouc_wen_flight(ff, el, mat, u, v, u1, v1, a1, gs, gk, zero, h, rise, zs):
             base = o_e + (j - st_start[c]) * 4 * nm
             for m in range(2 * nm):
                 de += gs[m] * (egq[base + m] * dm + egq[base + 2 * nm + m] * d1)
-            ds0, rs0 = _deformation(ne_dof, ne_coef, ne_size, q, u, zero, v, 0.0, gk, GU0)
-            ds1, rs1 = _deformation(ne_dof, ne_coef, ne_size, q, u1, zero, v1, 0.0, gk, GU1)
+            ds0, rs0 = _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, GU0)
+            ds1, rs1 = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
             step1 = ds1 - zs[6 * j + 2]
             zs[6 * j] += zs[6 * j + 5] * step1
             zs[6 * j + 1] += zs[6 * j] * step1 / (ne_par[q, BW_DY] * ne_par[q, BW_DY])
@@ -622,7 +628,7 @@ def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1
     touches, no bilinear storey leaves its elastic range in it and the Bouc-Wen storeys' terms
     converge (``_bouc_wen_flight``).
 
-    el = (ne_dof, ne_coef, ne_size, ne_gap); state = (u, v, a, u1, v1, a1, xs, ys, zero); gaps = (d0, r0,
+    el = (ne_dof, ne_coef, ne_size, ne_gap); state = (u, v, a, u1, v1, a1, xs, ys); gaps = (d0, r0,
     d1, r1, land_too); mat = (ne_code, ne_par, st_c, st_t, F, fmax, cst, rise, zs).  Returns (accepted,
     input work [J], work of the linear elements and dampers [J], work on the storeys [J]); the
     bilinear storeys' exactly (an elastic storey's force is linear in its deformation), the Bouc-Wen
@@ -630,7 +636,7 @@ def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1
     nothing else acts (``transition.py``).  Not accepted, nothing but the trial arrays changed.
     """
     ne_dof, ne_coef, ne_size, ne_gap = el
-    u, v, a, u1, v1, a1, xs, ys, zero = state
+    u, v, a, u1, v1, a1, xs, ys = state
     d0, r0, d1, r1, land_too = gaps
     ne_code, ne_par, st_c, st_t, F, fmax, cst, rise, zs = mat
     st_elem = ff[10]
@@ -647,13 +653,13 @@ def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1
     dwh = 0.0
     if ff[16]:  # Bouc-Wen storeys: their terms within the step
         ok, de_bw, dwh = _bouc_wen_flight(ff, el, (ne_code, ne_par, st_c, cst), u, v, u1, v1, a1,
-                                          xs[xs.size - 2 * g_t.size:], gk, zero, dt, rise, zs)
+                                          xs[xs.size - 2 * g_t.size:], gk, dt, rise, zs)
         if not ok:
             return False, 0.0, 0.0, 0.0
         de += de_bw
     for q in range(ne_gap.size):
         if ne_gap[q]:
-            d1[q], r1[q] = _deformation(ne_dof, ne_coef, ne_size, q, u1, zero, v1, 0.0, gk, GU1)
+            d1[q], r1[q] = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
     if _screen(ne_gap, active, d0, r0, d1, r1, dt, False, -1, land_too)[1] >= 0:
         return False, 0.0, 0.0, 0.0
     for j in range(st_elem.size):  # each bilinear storey within its elastic range over the whole step?
@@ -664,8 +670,8 @@ def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1
         k = ne_par[q, B_K]
         hi = st_c[q, ST_PLASTIC] + ne_par[q, B_FY] / k
         lo = st_c[q, ST_PLASTIC] - ne_par[q, B_FY] / k
-        ds0, rs0 = _deformation(ne_dof, ne_coef, ne_size, q, u, zero, v, 0.0, gk, GU0)
-        ds1, rs1 = _deformation(ne_dof, ne_coef, ne_size, q, u1, zero, v1, 0.0, gk, GU1)
+        ds0, rs0 = _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, GU0)
+        ds1, rs1 = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
         tol = 1e-12 * (hi - lo)
         if (_event_in_step(ds0 - hi, rs0, ds1 - hi, rs1, dt, True, tol) <= 1.0
                 or _event_in_step(lo - ds0, -rs0, lo - ds1, -rs1, dt, True, tol) <= 1.0):
@@ -819,7 +825,6 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     gk = np.zeros((4, nn))
     g_t = np.empty(nm)
     g_1 = np.empty(nm)
-    zero = np.zeros(n)
     u1 = np.empty(n)  # a free-flight step's trial state
     v1 = np.empty(n)
     a1 = np.empty(n)
@@ -838,7 +843,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     # the work arrays: owned by this tuple (kept alive to the end), used through borrowed aliases
     owners = (cache_A, cache_el, h_lev, LM, u, v, a, Vv, Av, R0, Du, work, flin, flin1, act, comp_off, Gm, Sm, ym,
               Fm, dl, rl, resv, kt, Aband, T, zt, xt, Wt, gpos, st_c, st_t, F, F1, F_old, h_old, active, hsub,
-              age, cur_imp, d0, r0, d1, r1, toggles, land_too, gk, g_t, g_1, zero, u1, v1, a1, xs, ys, cst, actg,
+              age, cur_imp, d0, r0, d1, r1, toggles, land_too, gk, g_t, g_1, u1, v1, a1, xs, ys, cst, actg,
               compg_off, rise, zs)
     u1, v1, a1, xs, ys, cst = borrow(u1), borrow(v1), borrow(a1), borrow(xs), borrow(ys), borrow(cst)
     rise, zs = borrow(rise), borrow(zs)
@@ -853,7 +858,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     F_old, h_old, active = borrow(F_old), borrow(h_old), borrow(active)
     hsub, age, cur_imp, d0, r0 = borrow(hsub), borrow(age), borrow(cur_imp), borrow(d0), borrow(r0)
     d1, r1, toggles, land_too, gk = borrow(d1), borrow(r1), borrow(toggles), borrow(land_too), borrow(gk)
-    g_t, g_1, zero = borrow(g_t), borrow(g_1), borrow(zero)
+    g_t, g_1 = borrow(g_t), borrow(g_1)
     elg = (ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi)
     el_b = (ne_dof, ne_coef, ne_par, ne_gap)  # what the elastic factor adds
     twork = (zt, xt, resv, kt, Wt, Sm, ym, gpos)
@@ -870,7 +875,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
         _gap_ground_all(ne_ground, 0.0, dt, gk, GU0)
     m_act = 0
     for q in range(nn):
-        d0[q], r0[q] = _deformation(ne_dof, ne_coef, ne_size, q, u, zero, v, 0.0, gk, GU0)
+        d0[q], r0[q] = _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, GU0)
         if not ne_gap[q]:
             active[q] = True
         elif d0[q] > 0.0 or (d0[q] == 0.0 and r0[q] > 0.0):
@@ -906,7 +911,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
         if ff[0] and m_act == n_storeys:  # every gap open (the storeys are always active)
             # ---- FREE FLIGHT: the whole analysis step by each building's linear map, if no gap event is in it
             ok, de, dw, dwh = _free_flight(ff, t_end, dt, ag, ne_ground, moving, (ne_dof, ne_coef, ne_size, ne_gap),
-                                           active, lin, g_t, g_1, gk, (u, v, a, u1, v1, a1, xs, ys, zero),
+                                           active, lin, g_t, g_1, gk, (u, v, a, u1, v1, a1, xs, ys),
                                            (d0, r0, d1, r1, land_too), (ne_code, ne_par, st_c, st_t, F, fmax, cst, rise, zs),
                                            umax)
             if ok:

@@ -8,8 +8,9 @@ report, the augmented model and the figure).  Target: under 60 s each on this ma
 
 ``--forms``: instead, the cost of one simulation of each hypothesis form on the family
 ``none``'s case (what a search pays per evaluation): ``Observer.simulate`` of the form's
-augmented model at its null point, median of ``--repeat`` after one untimed call, next to the
-base model's.
+augmented model at its null point, after one untimed call, median of ``--repeat`` rounds that
+simulate every form once each, alternating in one process (the machine drifts by 20-50 % within
+minutes), next to the base model's.
 """
 
 from __future__ import annotations
@@ -62,27 +63,28 @@ def _forms(seed, repeat) -> int:
         data = tomllib.loads(model.text)
         data.setdefault("analysis", {}).setdefault("contact_substeps", 32)
 
-        def timed(table, overrides):
-            obs = Observer(table, f, chans, trials)
-            obs.simulate(overrides)
-            ts = []
-            for _ in range(repeat):
-                t0 = time.perf_counter()
-                obs.simulate(overrides)
-                ts.append(time.perf_counter() - t0)
-            return statistics.median(ts)
-
-        base = timed(data, [])
-        obs = Observer(data, f, chans, trials)
-        obs.simulate([])
-        print(f"one simulation, 2 buildings, 30 s at 200 Hz, median of {repeat}:")
-        print(f"  base row: {1e3 * base:.1f} ms ({len(obs.impact_times[0])} impacts)")
+        forms = [("base row", data, [], 0)]
         for hyp in REGISTRY:
             for k, form in enumerate(hyp.forms):
                 table, specs, null = hyp.augment(data, k)
-                t = timed(table, list(null.items()))
-                print(f"  {hyp.name} / {form.__name__.lstrip('_')}: {1e3 * t:.1f} ms ({t / base:.1f} x the base row), "
-                      f"{len(specs)} parameters", flush=True)
+                forms.append((f"{hyp.name} / {form.__name__.lstrip('_')}", table, list(null.items()), len(specs)))
+        observers = []
+        for label, table, overrides, _ in forms:
+            obs = Observer(table, f, chans, trials)
+            obs.simulate(overrides)  # compiled and warm
+            observers.append(obs)
+        ts = [[] for _ in forms]
+        for _ in range(repeat):  # every form once per round: the machine's drift between forms cancels
+            for obs, (_, _, overrides, _), t in zip(observers, forms, ts):
+                t0 = time.perf_counter()
+                obs.simulate(overrides)
+                t.append(time.perf_counter() - t0)
+        base = statistics.median(ts[0])
+        print(f"one simulation, 2 buildings, 30 s at 200 Hz, median of {repeat} rounds over every form:")
+        print(f"  base row: {1e3 * base:.1f} ms ({len(observers[0].impact_times[0])} impacts)")
+        for (label, _, _, p), t in zip(forms[1:], ts[1:]):
+            m = statistics.median(t)
+            print(f"  {label}: {1e3 * m:.1f} ms ({m / base:.1f} x the base row), {p} parameters", flush=True)
     return 0
 
 

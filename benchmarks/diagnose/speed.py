@@ -6,6 +6,10 @@ one case per family.  Timed: the whole ``diagnose`` call as a user makes it (rea
 model, recording and channel map, numerics check, recalibration, every hypothesis, the
 report, the augmented model and the figure).  Target: under 60 s each on this machine.
 
+``--drivers``: where the general driver's time goes: ``integrate`` alone (no Observer, no result) on the
+base row with each driver, the same row with its gap opened to 1 m (free flight throughout), and the
+forms that run on the general driver, at their null points, alternating in one process.
+
 ``--forms``: instead, the cost of one simulation of each hypothesis form on the family
 ``none``'s case (what a search pays per evaluation): ``Observer.simulate`` of the form's
 augmented model at its null point, after one untimed call, median of ``--repeat`` rounds that
@@ -28,10 +32,15 @@ def main(argv=None) -> int:
     ap.add_argument("--families", default="none,inelastic-storey,spatially-varying-input")
     ap.add_argument("--seed", type=int, default=31)
     ap.add_argument("--forms", action="store_true", help="time one simulation per hypothesis form")
+    ap.add_argument("--drivers", action="store_true",
+                    help="time the integrator alone on the base row (both drivers, with and without contact) "
+                         "and on the general driver's forms")
     ap.add_argument("--repeat", type=int, default=5)
     args = ap.parse_args(argv)
     if args.forms:
         return _forms(args.seed, args.repeat)
+    if args.drivers:
+        return _drivers(args.seed, args.repeat)
     from seispound.diagnose import diagnose
 
     with tempfile.TemporaryDirectory() as tmp:
@@ -85,6 +94,57 @@ def _forms(seed, repeat) -> int:
         for (label, _, _, p), t in zip(forms[1:], ts[1:]):
             m = statistics.median(t)
             print(f"  {label}: {1e3 * m:.1f} ms ({m / base:.1f} x the base row), {p} parameters", flush=True)
+    return 0
+
+
+def _drivers(seed, repeat) -> int:
+    import copy
+    import statistics
+    import tomllib
+
+    from seispound.calibrate.api import load_inputs
+    from seispound.calibrate.observe import Observer
+    from seispound.diagnose.hypotheses import REGISTRY
+    from seispound.integrate import integrate
+    from seispound.simulation import newmark_substeps, run_inputs
+
+    with tempfile.TemporaryDirectory() as tmp:
+        f = Path(tmp) / "none"
+        write_case(f, "none", seed, duration=30.0, buildings=2)
+        model, chans, trials = load_inputs(f / "model.toml", [f / "recording.mseed"], f / "channels.toml", None)
+        data = tomllib.loads(model.text)
+        data.setdefault("analysis", {}).setdefault("contact_substeps", 32)
+        apart = copy.deepcopy(data)
+        for g in apart["gap"]:
+            g["size"] = 1.0
+        cases = [("base row, fast", data, [], "fast"), ("base row, general", data, [], "general"),
+                 ("gap open, fast", apart, [], "fast"), ("gap open, general", apart, [], "general")]
+        for hyp in REGISTRY:
+            for k, form in enumerate(hyp.forms):
+                table, _, null = hyp.augment(data, k)
+                cases.append((f"{hyp.name} / {form.__name__.lstrip('_')}", table, list(null.items()), "auto"))
+        runs = []
+        for label, table, overrides, driver in cases:
+            m = Observer(table, f, chans, trials).model_for(trials[0], overrides)
+            an = m.analysis
+            system, motions = run_inputs(m)
+            args = (system, motions.rows, an.dt, an.nsteps, an.newmark)
+            kw = dict(substeps=newmark_substeps(m, system), driver=driver)
+            raw = integrate(*args, **kw)  # compiled and warm
+            if driver == "auto" and raw.driver != "general":
+                continue
+            runs.append((label, args, kw, raw.stats, []))
+        for _ in range(repeat):
+            for _, args, kw, _, ts in runs:
+                t0 = time.perf_counter()
+                integrate(*args, **kw)
+                ts.append(time.perf_counter() - t0)
+        base = statistics.median(runs[0][4])
+        print(f"integrate alone, 2 buildings, 30 s at 200 Hz, median of {repeat} alternating rounds:")
+        for label, _, _, st, ts in runs:
+            m = statistics.median(ts)
+            print(f"  {label:48s} {1e3 * m:7.2f} ms  {m / base:5.2f} x  steps {st['steps']:6d} "
+                  f"({st['free_flight_steps']} in free flight), DOF-steps {st['dof_steps']}", flush=True)
     return 0
 
 

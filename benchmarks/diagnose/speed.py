@@ -57,20 +57,29 @@ def main(argv=None) -> int:
     return 0
 
 
-def _forms(seed, repeat) -> int:
-    import statistics
+def _case_none(tmp, seed):
+    """The family ``none``'s case in folder tmp: (its folder, the model's table with 32 contact substeps,
+    the channels, the trials), as ``diagnose`` reads them."""
     import tomllib
 
     from seispound.calibrate.api import load_inputs
+
+    f = Path(tmp) / "none"
+    write_case(f, "none", seed, duration=30.0, buildings=2)
+    model, chans, trials = load_inputs(f / "model.toml", [f / "recording.mseed"], f / "channels.toml", None)
+    data = tomllib.loads(model.text)
+    data.setdefault("analysis", {}).setdefault("contact_substeps", 32)
+    return f, data, chans, trials
+
+
+def _forms(seed, repeat) -> int:
+    import statistics
+
     from seispound.calibrate.observe import Observer
     from seispound.diagnose.hypotheses import REGISTRY
 
     with tempfile.TemporaryDirectory() as tmp:
-        f = Path(tmp) / "none"
-        write_case(f, "none", seed, duration=30.0, buildings=2)
-        model, chans, trials = load_inputs(f / "model.toml", [f / "recording.mseed"], f / "channels.toml", None)
-        data = tomllib.loads(model.text)
-        data.setdefault("analysis", {}).setdefault("contact_substeps", 32)
+        f, data, chans, trials = _case_none(tmp, seed)
 
         forms = [("base row", data, [], 0)]
         for hyp in REGISTRY:
@@ -100,20 +109,14 @@ def _forms(seed, repeat) -> int:
 def _drivers(seed, repeat) -> int:
     import copy
     import statistics
-    import tomllib
 
-    from seispound.calibrate.api import load_inputs
     from seispound.calibrate.observe import Observer
     from seispound.diagnose.hypotheses import REGISTRY
     from seispound.integrate import integrate
     from seispound.simulation import newmark_substeps, run_inputs
 
     with tempfile.TemporaryDirectory() as tmp:
-        f = Path(tmp) / "none"
-        write_case(f, "none", seed, duration=30.0, buildings=2)
-        model, chans, trials = load_inputs(f / "model.toml", [f / "recording.mseed"], f / "channels.toml", None)
-        data = tomllib.loads(model.text)
-        data.setdefault("analysis", {}).setdefault("contact_substeps", 32)
+        f, data, chans, trials = _case_none(tmp, seed)
         apart = copy.deepcopy(data)
         for g in apart["gap"]:
             g["size"] = 1.0

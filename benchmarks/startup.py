@@ -6,6 +6,14 @@ command 1 (``seispound run models/two_buildings.toml``), then in another such pr
 first ``simulate`` of each physics of ``benchmarks.physics`` one after the other, and
 reports the wall times and the compile notice the run printed.  A second run of
 command 1, with the cache now filled, is timed for comparison.
+
+``--passes``: instead, where a driver's cold compile goes.  In a child process with an empty
+cache, the first ``simulate`` of ``models/two_buildings.toml`` (the fast driver) and of
+``models/yielding_pair.toml`` (the general driver), with numba's per-pass timings of each
+driver's kernel (``pipeline_times`` in the compile's metadata: type inference, SSA
+reconstruction, lowering, ...; a pass's time includes the compiles of the functions it reaches
+first) and LLVM's own total (``NUMBA_LLVM_PASS_TIMINGS``), and the compile events of the
+functions it compiled (``numba.core.event``), by exclusive time.
 """
 
 from __future__ import annotations
@@ -32,6 +40,40 @@ for name in ["plain", "yielding storeys", "flexible foundation", "rod floors", "
 """
 
 
+PASSES = """
+import re, time, warnings
+warnings.simplefilter("ignore")
+from numba.core import event
+import seispound as sp
+from seispound.integrate import _general, _kernel
+for model, kernel in (("models/two_buildings.toml", _kernel.integrate_kernel),
+                      ("models/yielding_pair.toml", _general.general_kernel)):
+    with event.install_recorder("numba:compile") as rec:
+        t0 = time.perf_counter()
+        sp.simulate(sp.load_model(model))
+        wall = time.perf_counter() - t0
+    md = next(iter(kernel.overloads.values())).metadata
+    passes = sorted(((t.init + t.run + t.finalize, name.split("_", 1)[1])
+                     for name, t in md["pipeline_times"]["nopython"].items()), reverse=True)
+    llvm = re.search(r"Total time: ([0-9.]+)", md["llvm_pass_timings"].summary())
+    print(f"{model}: first simulate {wall:.1f} s; {kernel.py_func.__name__}'s passes: "
+          + ", ".join(f"{name} {sec:.1f} s" for sec, name in passes[:6])
+          + f"; LLVM's passes {float(llvm.group(1)):.1f} s")
+    stack, excl = [], {}
+    for ts, ev in rec.buffer:
+        name = ev.data["dispatcher"].py_func.__qualname__
+        if ev.is_start:
+            stack.append([name, ts, 0.0])
+            continue
+        name, t, inner = stack.pop()
+        excl[name] = excl.get(name, 0.0) + ts - t - inner
+        if stack:
+            stack[-1][2] += ts - t
+    print(f"  {len(excl)} functions compiled; exclusive seconds: "
+          + ", ".join(f"{k} {v:.1f}" for k, v in sorted(excl.items(), key=lambda x: -x[1])[:6]), flush=True)
+"""
+
+
 def _run(cmd, env, cwd):
     t0 = time.perf_counter()
     p = subprocess.run(cmd, env=env, cwd=cwd, capture_output=True, text=True)
@@ -39,10 +81,19 @@ def _run(cmd, env, cwd):
 
 
 def main(argv=None) -> int:
-    argparse.ArgumentParser(description=__doc__.splitlines()[0]).parse_args(argv)
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--passes", action="store_true", help="where each driver's cold compile goes")
+    args = ap.parse_args(argv)
     exe = Path(sys.executable).with_name("seispound")
     with tempfile.TemporaryDirectory() as tmp:
         env = dict(os.environ, NUMBA_CACHE_DIR=str(Path(tmp) / "cache"), PYTHONPATH=str(REPO))
+        if args.passes:
+            env["NUMBA_LLVM_PASS_TIMINGS"] = "1"
+            wall, p = _run([sys.executable, "-c", PASSES], env, REPO)
+            print(p.stdout, end="")
+            if p.returncode:
+                print(p.stderr[-2000:])
+            return p.returncode
         out = Path(tmp) / "two_buildings.h5"
         for label in ("cold (fresh install)", "warm (cache filled)"):
             wall, p = _run([str(exe), "run", "models/two_buildings.toml", "-o", str(out)], env, REPO)

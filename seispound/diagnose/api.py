@@ -102,6 +102,8 @@ class Diagnosis:
                          f"{item['probability']:.2f} among the models fitted): {item['evidence']}")
             for q in item.get("quantities", []):
                 lines.append(f"    {q['name']}: {_interval(q)}")
+            if item.get("caveat"):
+                lines.append(f"    caveat: {item['caveat']}")
         if self.instrument_fault:
             f = self.instrument_fault
             lines.append(f"  suspected instrument fault: {f['channel']} ({f['reason']}); left out of the fit")
@@ -892,6 +894,12 @@ def _left_out(steps, base_fit, n_eff, signature) -> list:
                     f"{hyp.signature}",
                     "share": (before - st.fit.ne_mean_after) / total if total > 0 else 1.0,
                     "probability": round(st.probability, 4), "quantities": quantities(st.name, st.fit)})
+        unseen = [q for q in out[-1]["quantities"] if q.get("defining") and q.get("stderr") is None]
+        if unseen:  # the fit improved, but not by what this physics adds to the base model
+            q = unseen[0]
+            out[-1]["caveat"] = (f"the data do not show {st.name} itself: its {q['name']} is not identified "
+                                 f"({q.get('reason', 'the data do not constrain it')}), so its gain may owe to "
+                                 "the base parameters fitted with it")
     return out
 
 
@@ -950,8 +958,10 @@ def _verdict(ne, noise_ne, left_out, kept_as_given, fault, mismatch, wrong=()) -
     if ratio <= EXPLAINED and not named:
         return (f"no physics is missing: the model's own parameters, recalibrated, explain the data (NE {ne:.4f}, "
                 f"{ratio:.2f} times what the sensor noise leaves); where they moved, they were wrong{also}")
+    caveats = "".join(f"; but {item['caveat']}" for item in left_out if item.get("caveat"))
     if ratio <= EXPLAINED:
-        return f"the model {base} explains the data: NE {ne:.4f}, {ratio:.2f} times what the sensor noise leaves"
+        return (f"the model {base} explains the data: NE {ne:.4f}, {ratio:.2f} times what the sensor noise "
+                f"leaves{caveats}")
     where = ""
     if mismatch:
         m = mismatch[0]
@@ -960,7 +970,7 @@ def _verdict(ne, noise_ne, left_out, kept_as_given, fault, mismatch, wrong=()) -
                  f"{m['band_hz'][1]:.1f} Hz")
     head = ("no fitted model beats the model as given, which is kept" if kept_as_given else
             f"nothing in the library explains the misfit {'beyond ' + named if named else ''}".rstrip())
-    return f"{head}: NE {ne:.4f} remains {ratio:.1f} times what the sensor noise leaves{where}"
+    return f"{head}: NE {ne:.4f} remains {ratio:.1f} times what the sensor noise leaves{where}{caveats}"
 
 
 def _interval(q) -> str:

@@ -5,7 +5,9 @@ covariance (the calibration's sandwich, ``calibrate.fit``) by the delta method, 
 differences of the function (sigma_q^2 = g^T C g, g = dq/dx).  A quantity whose parameters
 sit at a bound of the fit, or whose standard error is zero, not finite or over half its value
 (a 95 % interval that would reach zero), is reported as not identified, with the reason, never
-with a standard error of zero.
+with a standard error of zero.  A quantity marked ``defining`` is what the physics adds to the base
+model (its departure from the null point, where the base model cannot reach); when it is not
+identified, the report says that the data do not show the physics itself (``api._left_out``).
 
 Quantities (units in each entry):
 
@@ -17,7 +19,8 @@ Quantities (units in each entry):
   the body's mass and its natural frequency on the joint;
 * inelastic-storey: each building's yield drift, the post-yield stiffness ratio (and Bouc-Wen's
   exponent);
-* velocity-dependent-restitution: e at impact velocities of 0.1 and 0.5 m/s;
+* velocity-dependent-restitution: e at impact velocities of 0.1 and 0.5 m/s, and the change of e
+  between them (the velocity dependence itself, marked ``defining``);
 * spatially-varying-input: each building's delay (and low-pass corner).
 """
 
@@ -216,7 +219,10 @@ def _restitution(fit, data):
             return float(restitution_from(table, key="contact.restitution")(v))
         return f
 
-    return [_delta(fit, f"e at an impact velocity of {v} m/s", "-", e_at(v), paths) for v in (0.1, 0.5)]
+    out = [_delta(fit, f"e at an impact velocity of {v} m/s", "-", e_at(v), paths) for v in (0.1, 0.5)]
+    # the velocity dependence itself: a constant e (the base model's, recalibrated) cannot make it
+    change = _delta(fit, "change of e from 0.1 to 0.5 m/s", "-", lambda x: e_at(0.5)(x) - e_at(0.1)(x), paths)
+    return out + [dict(change, defining=True)]
 
 
 def _delays(fit, data):

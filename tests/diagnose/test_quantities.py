@@ -71,3 +71,53 @@ def test_a_value_a_hair_inside_a_bound_ended_at_it():
     assert not ended_at_bound(math.log(4.99), lo, hi)  # 2.2e-4 of the range inside: a value the data set
     assert not ended_at_bound(math.log(0.02), lo, hi)
     assert ended_at_bound(math.log(0.02), lo, hi, active=1)
+
+
+def _restitution_fit(slope, stderr):
+    from seispound.calibrate.fit import CalibrationResult
+
+    par = lambda v, s: dict(value=v, start=v, stderr=s, lo=0.0, hi=5.0, at_bound=False, factor=False)  # noqa: E731
+    return CalibrationResult(parameters={"contact.restitution.slope": par(slope, stderr),
+                                         "contact.restitution.e0": par(0.8, 0.01)},
+                             correlation=np.eye(2), ne_before={}, ne_after={}, ne_mean_before=0, ne_mean_after=0,
+                             evaluations=0, seconds=0, model_text="", n=1, n_eff=1, success=True, message="")
+
+
+def test_the_velocity_dependence_of_e_is_reported_and_can_be_unidentified():
+    """The change of e between 0.1 and 0.5 m/s is what e(v) adds to a constant e (the base model's, which
+    recalibration refits): for e = e0 - slope v0 it is -0.4 slope, standard error 0.4 sigma_slope (closed
+    form; e0 cancels).  A slope within two of its standard errors of zero leaves it not identified, and the
+    quantity is the physics's ``defining`` one, which the report then states as a caveat."""
+    from seispound.diagnose.quantities import _restitution
+
+    table = {"contact": {"restitution": {"form": "linear", "e0": 0.8, "slope": 0.5, "min": 0.05, "max": 0.99}}}
+    qs = _restitution(_restitution_fit(0.5, 0.05), table)
+    change = [q for q in qs if q.get("defining")]
+    assert len(change) == 1 and [q["name"] for q in qs][:2] == ["e at an impact velocity of 0.1 m/s",
+                                                                 "e at an impact velocity of 0.5 m/s"]
+    assert abs(change[0]["value"] + 0.2) < 1e-12 and abs(change[0]["stderr"] - 0.02) < 1e-8
+    flat = [q for q in _restitution(_restitution_fit(0.01, 0.05), table) if q.get("defining")][0]
+    assert flat["stderr"] is None and "do not determine" in flat["reason"] and abs(flat["value"] + 0.004) < 1e-12
+
+
+def test_a_named_physics_whose_defining_quantity_is_unidentified_carries_a_caveat_into_the_verdict():
+    from types import SimpleNamespace
+
+    from seispound.diagnose.api import _left_out, _verdict
+
+    fit = _restitution_fit(0.01, 0.05)
+    fit.model_text = ('[contact]\nrestitution = { form = "linear", e0 = 0.8, slope = 0.01, min = 0.05, '
+                      'max = 0.99 }\n')
+    prev = SimpleNamespace(name=None, fit=SimpleNamespace(ne_mean_after=0.02))
+    step = SimpleNamespace(name="velocity-dependent-restitution", prev=prev, fit=SimpleNamespace(
+        ne_mean_after=0.011, parameters=fit.parameters, correlation=fit.correlation, model_text=fit.model_text),
+        gain=0.45, bic=-10.0, probability=0.9)
+    prev.bic = 20.0
+    item = _left_out([step], prev.fit, 1000.0, {})[0]
+    assert "do not show velocity-dependent-restitution itself" in item["caveat"]
+    verdict = _verdict(0.011, 0.010, [item], False, None, [])
+    assert "explains the data" in verdict and "but the data do not show" in verdict
+    fit_sloped = _restitution_fit(0.5, 0.05)
+    step.fit.parameters = fit_sloped.parameters
+    step.fit.model_text = step.fit.model_text.replace("slope = 0.01", "slope = 0.5")
+    assert "caveat" not in _left_out([step], prev.fit, 1000.0, {})[0]

@@ -121,3 +121,13 @@ def test_a_named_physics_whose_defining_quantity_is_unidentified_carries_a_cavea
     step.fit.parameters = fit_sloped.parameters
     step.fit.model_text = step.fit.model_text.replace("slope = 0.01", "slope = 0.5")
     assert "caveat" not in _left_out([step], prev.fit, 1000.0, {})[0]
+
+
+def test_a_quantity_no_parameter_moves_is_not_identified():
+    """A linear e(v) clipped to its maximum over 0.1-0.5 m/s is a constant e: the change of e is zero and no
+    fitted parameter moves it, so it has no standard error to give (never a standard error of zero)."""
+    from seispound.diagnose.quantities import _restitution
+
+    table = {"contact": {"restitution": {"form": "linear", "e0": 0.8, "slope": 0.01, "min": 0.05, "max": 0.6}}}
+    flat = [q for q in _restitution(_restitution_fit(0.01, 0.05), table) if q.get("defining")][0]
+    assert flat["value"] == 0.0 and flat["stderr"] is None and "standard error zero" in flat["reason"]

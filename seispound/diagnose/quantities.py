@@ -112,7 +112,7 @@ def _delta(fit, name, units, fn, paths, rel=1e-4) -> dict:
     sd = float(math.sqrt(max(g @ _covariance(fit, paths) @ g, 0.0)))
     if not sd > 0.0:  # no parameter moves it at the fitted point (an e(v) clipped to a constant, say)
         return {"name": name, "value": value, "stderr": None, "units": units,
-                "reason": "it does not change with any fitted parameter at the fitted values (standard error zero)"}
+                "reason": "no fitted parameter moves it at the fitted values: its standard error is zero"}
     if sd > UNDETERMINED * abs(value):
         return {"name": name, "value": value, "stderr": None, "units": units,
                 "reason": f"the data do not determine it (standard error {sd:.2g} {units}, over half its value)"}

@@ -130,4 +130,4 @@ def test_a_quantity_no_parameter_moves_is_not_identified():
 
     table = {"contact": {"restitution": {"form": "linear", "e0": 0.8, "slope": 0.01, "min": 0.05, "max": 0.6}}}
     flat = [q for q in _restitution(_restitution_fit(0.01, 0.05), table) if q.get("defining")][0]
-    assert flat["value"] == 0.0 and flat["stderr"] is None and "standard error zero" in flat["reason"]
+    assert flat["value"] == 0.0 and flat["stderr"] is None and "standard error is zero" in flat["reason"]

@@ -72,34 +72,35 @@ def assemble_band(cm, cc, ck, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, l
 
 @njit(cache=True)
 def linear_bands(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, n):
-    """KC (2, n, p + 1): the lower bands of K and of C (``assemble_band``'s layout, KC[0, i, i - j] = K(i, j))
+    """KC (2, p + 1, n): the lower bands of K and of C diagonal by diagonal, KC[0, d, i] = K(i, i - d) for
+    i >= d and zero for i < d (``assemble_band``'s entries, stored so that each diagonal is contiguous)
     of a row of n DOFs and half bandwidth p."""
     L = np.empty((n, p + 2))
-    KC = np.empty((2, n, p + 1))
+    KC = np.zeros((2, p + 1, n))
     for m in range(2):
         assemble_band(0.0, float(m), float(1 - m), ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, L)
         for i in range(n):
-            for d in range(p + 1):
-                KC[m, i, d] = L[i, d]
+            for d in range(min(p, i) + 1):
+                KC[m, d, i] = L[i, d]
     return KC
 
 
 @njit(cache=True)
 def linear_forces(KC, u, v, f):
     """f = K u + C v [N], shape (n,), from the bands of ``linear_bands``: the linear elements' springs and
-    dashpots and the mass-proportional damping, as one banded product (cheaper than a loop over the elements)."""
-    w = KC.shape[2]
-    for i in range(f.size):
-        f[i] = 0.0
-    for i in range(f.size):
-        s = KC[0, i, 0] * u[i] + KC[1, i, 0] * v[i]
-        for d in range(1, min(w, i + 1)):
-            j = i - d
-            k = KC[0, i, d]
-            c = KC[1, i, d]
-            s += k * u[j] + c * v[j]
-            f[j] += k * u[i] + c * v[i]
-        f[i] += s
+    dashpots and the mass-proportional damping, as one banded product (cheaper than a loop over the elements).
+
+    Diagonal by diagonal: each sub-diagonal d adds its lower and its upper (mirror) products in two loops of
+    unit stride on unsigned subscripts, which vectorise (a row-by-row loop scatters into f[i - d])."""
+    n = np.uint64(f.size)
+    w = np.uint64(KC.shape[1])
+    for i in range(n):
+        f[i] = KC[0, 0, i] * u[i] + KC[1, 0, i] * v[i]
+    for d in range(np.uint64(1), w):
+        for i in range(d, n):  # row i, column i - d
+            f[i] += KC[0, d, i] * u[i - d] + KC[1, d, i] * v[i - d]
+        for i in range(d, n):  # row i - d, column i: the mirror
+            f[i - d] += KC[0, d, i] * u[i] + KC[1, d, i] * v[i]
 
 
 @njit(cache=True)

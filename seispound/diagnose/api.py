@@ -894,10 +894,13 @@ def _left_out(steps, base_fit, n_eff, signature) -> list:
                     f"{hyp.signature}",
                     "share": (before - st.fit.ne_mean_after) / total if total > 0 else 1.0,
                     "probability": round(st.probability, 4), "quantities": quantities(st.name, st.fit)})
-        unseen = [q for q in out[-1]["quantities"] if q.get("defining") and q.get("stderr") is None]
-        if unseen:  # the fit improved, but not by what this physics adds to the base model
-            q = unseen[0]
-            out[-1]["caveat"] = (f"the data do not show {st.name} itself: its {q['name']} is not identified "
+        defining = [q for q in out[-1]["quantities"] if q.get("defining")]
+        if defining and all(q.get("stderr") is None for q in defining):
+            # the fit improved, but not by anything this physics adds to the base model
+            q = defining[0]
+            what = (f"its {q['name']} is not identified" if len(defining) == 1 else
+                    f"none of {', '.join(d['name'] for d in defining)} is identified")
+            out[-1]["caveat"] = (f"the data do not show {st.name} itself: {what} "
                                  f"({q.get('reason', 'the data do not constrain it')}), so its gain may owe to "
                                  "the base parameters fitted with it")
     return out

@@ -6,14 +6,17 @@ differences of the function (sigma_q^2 = g^T C g, g = dq/dx).  A quantity whose 
 sit at a bound of the fit, or whose standard error is zero, not finite or over half its value
 (a 95 % interval that would reach zero), is reported as not identified, with the reason, never
 with a standard error of zero.  A quantity marked ``defining`` is what the physics adds to the base
-model (its departure from the null point, where the base model cannot reach); when it is not
-identified, the report says that the data do not show the physics itself (``api._left_out``).
+model (its departure from the null point, where the base model cannot reach): the change of e with
+the impact velocity, a foundation's lengthening of the first-mode period, a floor's axial frequency
+or its body's on the joint, a yield drift, a delay or low-pass corner.  When a named physics has
+such quantities and none of them is identified, the report says that the data do not show the
+physics itself (``api._left_out``).
 
 Quantities (units in each entry):
 
 * soil-structure-interaction: each building's soil shear-wave velocity (and footing width where
-  fitted) and first-mode period on its foundation (beside the fixed-base one), the share of the
-  half-space's radiation damping;
+  fitted), first-mode period on its foundation (beside the fixed-base one) and the lengthening
+  between them, the share of the half-space's radiation damping;
 * distributed-mass: each building's first free-free axial frequency of a floor (the lumped chain
   of the rod floor as modelled), the axial damping ratio; or, for a body on a compliant joint,
   the body's mass and its natural frequency on the joint;
@@ -163,6 +166,9 @@ def _soil(fit, data):
         fixed = flexible_base_period(masses, stiff, heights, math.inf, math.inf, 1.0, 1.0)
         out.append(_delta(fit, f"{name}: first-mode period on the foundation (fixed base {fixed:.3f} s)", "s",
                           period, paths))
+        # what a stiffer or softer building on a fixed base cannot give: the foundation's lengthening
+        out.append(dict(_delta(fit, f"{name}: lengthening of the first-mode period by the foundation", "s",
+                               lambda x, f=period, t0=fixed: f(x) - t0, paths), defining=True))
     share = "building.*.foundation.soil.radiation"
     if share in fit.parameters:
         out.append(_delta(fit, "share of the half-space's radiation damping", "-", lambda x: x[share], [share]))
@@ -178,14 +184,16 @@ def _rods(fit, data):
         rod = b["floor_model"]
         m = _list(b["floor_masses"], _floors(b))[0]
         ea_over_l = lambda x, p=path, rod=rod: x[p] / float(rod["length"])  # noqa: E731 (axial stiffness EA [N])
-        out.append(_delta(fit, f"{name}: first axial frequency of a floor", "Hz",
-                          lambda x, f=ea_over_l, rod=rod, m=m: _first_axial(m, f(x), int(rod["segments"])), [path]))
+        out.append(dict(_delta(fit, f"{name}: first axial frequency of a floor", "Hz",
+                               lambda x, f=ea_over_l, rod=rod, m=m: _first_axial(m, f(x), int(rod["segments"])),
+                               [path]), defining=True))
     mass = "building.*.floor_model.attachment.mass"
     for name in _buildings(data):
         joint = f"building.{name}.floor_model.attachment.joint_stiffness"
         if joint in fit.parameters and mass in fit.parameters:
-            out.append(_delta(fit, f"{name}: natural frequency of the body on its joint", "Hz",
-                              lambda x, j=joint: math.sqrt(x[j] / x[mass]) / (2.0 * math.pi), [joint, mass]))
+            out.append(dict(_delta(fit, f"{name}: natural frequency of the body on its joint", "Hz",
+                                   lambda x, j=joint: math.sqrt(x[j] / x[mass]) / (2.0 * math.pi), [joint, mass]),
+                            defining=True))
     if mass in fit.parameters:
         out.append(_delta(fit, "mass of the body on the joint", "kg", lambda x: x[mass], [mass]))
     damp = "building.*.floor_model.axial_damping"
@@ -198,7 +206,8 @@ def _yielding(fit, data):
     out = []
     for path in fit.parameters:
         if path.endswith("storey_law.yield_drift"):
-            out.append(_delta(fit, f"{path.split('.')[1]}: yield drift", "m", lambda x, p=path: x[p], [path]))
+            out.append(dict(_delta(fit, f"{path.split('.')[1]}: yield drift", "m", lambda x, p=path: x[p], [path]),
+                            defining=True))
     for key, what in (("post_yield_ratio", "post-yield stiffness ratio"), ("n", "Bouc-Wen exponent"),
                       ("strength_degradation", "strength degradation rate delta_nu (Baber & Wen)"),
                       ("stiffness_degradation", "stiffness degradation rate delta_eta (Baber & Wen)")):
@@ -229,10 +238,11 @@ def _restitution(fit, data):
 
 
 def _delays(fit, data):
-    out = [_delta(fit, f"{p.split('.')[1]}: delay of its ground motion", "s", lambda x, p=p: x[p], [p])
-           for p in fit.parameters if p.endswith("ground_motion.delay")]
-    return out + [_delta(fit, f"{p.split('.')[1]}: low-pass corner of its ground motion", "Hz", lambda x, p=p: x[p],
-                         [p]) for p in fit.parameters if p.endswith("ground_motion.lowpass")]
+    out = [dict(_delta(fit, f"{p.split('.')[1]}: delay of its ground motion", "s", lambda x, p=p: x[p], [p]),
+                defining=True) for p in fit.parameters if p.endswith("ground_motion.delay")]
+    return out + [dict(_delta(fit, f"{p.split('.')[1]}: low-pass corner of its ground motion", "Hz",
+                              lambda x, p=p: x[p], [p]), defining=True)
+                  for p in fit.parameters if p.endswith("ground_motion.lowpass")]
 
 
 _QUANTITIES = {"soil-structure-interaction": _soil, "distributed-mass": _rods, "inelastic-storey": _yielding,

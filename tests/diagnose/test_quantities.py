@@ -131,3 +131,28 @@ def test_a_quantity_no_parameter_moves_is_not_identified():
     table = {"contact": {"restitution": {"form": "linear", "e0": 0.8, "slope": 0.01, "min": 0.05, "max": 0.6}}}
     flat = [q for q in _restitution(_restitution_fit(0.01, 0.05), table) if q.get("defining")][0]
     assert flat["value"] == 0.0 and flat["stderr"] is None and "standard error is zero" in flat["reason"]
+
+
+def test_a_physics_with_several_defining_quantities_is_shown_by_any_one_of_them():
+    """Spatially varying input is shown by a delay the data identify; a caveat only when none is."""
+    from types import SimpleNamespace
+
+    from seispound.calibrate.fit import CalibrationResult
+    from seispound.diagnose.api import _left_out
+
+    def fit(se_b):
+        par = lambda v, s: dict(value=v, start=v, stderr=s, lo=0.0, hi=0.5, at_bound=False, factor=False)  # noqa: E731
+        return CalibrationResult(parameters={"building.B.ground_motion.delay": par(0.06, se_b),
+                                             "building.C.ground_motion.delay": par(0.001, 0.01)},
+                                 correlation=np.eye(2), ne_before={}, ne_after={}, ne_mean_before=0,
+                                 ne_mean_after=0.011, evaluations=0, seconds=0, model_text="", n=1, n_eff=1,
+                                 success=True, message="")
+
+    prev = SimpleNamespace(name=None, bic=20.0, fit=SimpleNamespace(ne_mean_after=0.5))
+    step = SimpleNamespace(name="spatially-varying-input", prev=prev, fit=fit(1e-4), gain=0.9, bic=-10.0,
+                           probability=0.99)
+    item = _left_out([step], prev.fit, 1000.0, {})[0]
+    assert [q["stderr"] is None for q in item["quantities"]] == [False, True] and "caveat" not in item
+    step.fit = fit(0.05)  # B's delay within its interval of zero too
+    item = _left_out([step], prev.fit, 1000.0, {})[0]
+    assert item["caveat"].startswith("the data do not show spatially-varying-input itself: none of B: delay")

@@ -91,9 +91,17 @@ def _covariance(fit, paths):
     return np.outer(sd, sd) * corr
 
 
-def _delta(fit, name, units, fn, paths, rel=1e-4) -> dict:
+def _delta(fit, name, units, fn, paths, rel=1e-4, defining=False) -> dict:
     """{name, value, stderr, units} of fn(values) by the delta method; stderr None (with the reason) when the
-    fit does not identify one of ``paths``."""
+    fit does not identify one of ``paths``.  ``defining``: the entry says that the quantity is what the
+    physics adds to the base model (module docstring)."""
+    q = _delta_method(fit, name, units, fn, paths, rel)
+    if defining:
+        q["defining"] = True
+    return q
+
+
+def _delta_method(fit, name, units, fn, paths, rel) -> dict:
     x = {p: float(fit.parameters[p]["value"]) for p in fit.parameters}
     value = float(fn(x))
     for p in paths:
@@ -167,8 +175,8 @@ def _soil(fit, data):
         out.append(_delta(fit, f"{name}: first-mode period on the foundation (fixed base {fixed:.3f} s)", "s",
                           period, paths))
         # what a stiffer or softer building on a fixed base cannot give: the foundation's lengthening
-        out.append(dict(_delta(fit, f"{name}: lengthening of the first-mode period by the foundation", "s",
-                               lambda x, f=period, t0=fixed: f(x) - t0, paths), defining=True))
+        out.append(_delta(fit, f"{name}: lengthening of the first-mode period by the foundation", "s",
+                          lambda x, f=period, t0=fixed: f(x) - t0, paths, defining=True))
     share = "building.*.foundation.soil.radiation"
     if share in fit.parameters:
         out.append(_delta(fit, "share of the half-space's radiation damping", "-", lambda x: x[share], [share]))
@@ -184,16 +192,16 @@ def _rods(fit, data):
         rod = b["floor_model"]
         m = _list(b["floor_masses"], _floors(b))[0]
         ea_over_l = lambda x, p=path, rod=rod: x[p] / float(rod["length"])  # noqa: E731 (axial stiffness EA [N])
-        out.append(dict(_delta(fit, f"{name}: first axial frequency of a floor", "Hz",
-                               lambda x, f=ea_over_l, rod=rod, m=m: _first_axial(m, f(x), int(rod["segments"])),
-                               [path]), defining=True))
+        out.append(_delta(fit, f"{name}: first axial frequency of a floor", "Hz",
+                          lambda x, f=ea_over_l, rod=rod, m=m: _first_axial(m, f(x), int(rod["segments"])),
+                          [path], defining=True))
     mass = "building.*.floor_model.attachment.mass"
     for name in _buildings(data):
         joint = f"building.{name}.floor_model.attachment.joint_stiffness"
         if joint in fit.parameters and mass in fit.parameters:
-            out.append(dict(_delta(fit, f"{name}: natural frequency of the body on its joint", "Hz",
-                                   lambda x, j=joint: math.sqrt(x[j] / x[mass]) / (2.0 * math.pi), [joint, mass]),
-                            defining=True))
+            out.append(_delta(fit, f"{name}: natural frequency of the body on its joint", "Hz",
+                              lambda x, j=joint: math.sqrt(x[j] / x[mass]) / (2.0 * math.pi), [joint, mass],
+                              defining=True))
     if mass in fit.parameters:
         out.append(_delta(fit, "mass of the body on the joint", "kg", lambda x: x[mass], [mass]))
     damp = "building.*.floor_model.axial_damping"
@@ -206,8 +214,8 @@ def _yielding(fit, data):
     out = []
     for path in fit.parameters:
         if path.endswith("storey_law.yield_drift"):
-            out.append(dict(_delta(fit, f"{path.split('.')[1]}: yield drift", "m", lambda x, p=path: x[p], [path]),
-                            defining=True))
+            out.append(_delta(fit, f"{path.split('.')[1]}: yield drift", "m", lambda x, p=path: x[p], [path],
+                              defining=True))
     for key, what in (("post_yield_ratio", "post-yield stiffness ratio"), ("n", "Bouc-Wen exponent"),
                       ("strength_degradation", "strength degradation rate delta_nu (Baber & Wen)"),
                       ("stiffness_degradation", "stiffness degradation rate delta_eta (Baber & Wen)")):
@@ -233,16 +241,15 @@ def _restitution(fit, data):
 
     out = [_delta(fit, f"e at an impact velocity of {v} m/s", "-", e_at(v), paths) for v in (0.1, 0.5)]
     # the velocity dependence itself: a constant e (the base model's, recalibrated) cannot make it
-    change = _delta(fit, "change of e from 0.1 to 0.5 m/s", "-", lambda x: e_at(0.5)(x) - e_at(0.1)(x), paths)
-    return out + [dict(change, defining=True)]
+    return out + [_delta(fit, "change of e from 0.1 to 0.5 m/s", "-", lambda x: e_at(0.5)(x) - e_at(0.1)(x), paths,
+                         defining=True)]
 
 
 def _delays(fit, data):
-    out = [dict(_delta(fit, f"{p.split('.')[1]}: delay of its ground motion", "s", lambda x, p=p: x[p], [p]),
-                defining=True) for p in fit.parameters if p.endswith("ground_motion.delay")]
-    return out + [dict(_delta(fit, f"{p.split('.')[1]}: low-pass corner of its ground motion", "Hz",
-                              lambda x, p=p: x[p], [p]), defining=True)
-                  for p in fit.parameters if p.endswith("ground_motion.lowpass")]
+    out = [_delta(fit, f"{p.split('.')[1]}: delay of its ground motion", "s", lambda x, p=p: x[p], [p], defining=True)
+           for p in fit.parameters if p.endswith("ground_motion.delay")]
+    return out + [_delta(fit, f"{p.split('.')[1]}: low-pass corner of its ground motion", "Hz", lambda x, p=p: x[p],
+                         [p], defining=True) for p in fit.parameters if p.endswith("ground_motion.lowpass")]
 
 
 _QUANTITIES = {"soil-structure-interaction": _soil, "distributed-mass": _rods, "inelastic-storey": _yielding,

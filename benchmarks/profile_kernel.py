@@ -171,6 +171,9 @@ def main(argv=None) -> int:
                     help="the driver to run (default auto: the one integrate picks)")
     ap.add_argument("--seconds", type=float, default=10.0, help="length of the sampled loop (default 10)")
     ap.add_argument("--frequency", type=int, default=10000, help="perf sampling frequency [Hz]")
+    ap.add_argument("--lines", type=int, default=0, metavar="N",
+                    help="also the N source lines with most samples, inlined helpers resolved to their own "
+                    "lines (compiles with NUMBA_DEBUGINFO=1; needs addr2line)")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
@@ -182,6 +185,8 @@ def main(argv=None) -> int:
     with tempfile.TemporaryDirectory(prefix="seispound-profile-") as tmp:
         out = Path(tmp)
         env = dict(os.environ, NUMBA_CACHE_DIR=str(out / "numba-cache"))
+        if args.lines:
+            env["NUMBA_DEBUGINFO"] = "1"
         print("compiling the kernel into a fresh numba cache (about a minute) ...", file=sys.stderr, flush=True)
         cmd = [sys.executable, "-m", "benchmarks.profile_kernel", "--model", args.model,
                "--seconds", str(args.seconds), "--driver", args.driver, "--child", str(out)]
@@ -215,6 +220,14 @@ def main(argv=None) -> int:
         base = int((out / "kernel_addr").read_text(), 16)
         syms = _symbols(out / "kernel.o")
         stats = (out / "stats").read_text()
+        offsets = collections.Counter()
+        for line in script.splitlines():
+            p = line.split()
+            try:
+                offsets[int(p[0], 16) - base] += 1
+            except (ValueError, IndexError):
+                continue
+        lines = _source_lines(out / "kernel.o", offsets, syms) if args.lines else None
     starts = [s for s, _, _ in syms]
     inside = collections.Counter()
     outside = collections.Counter()
@@ -248,7 +261,35 @@ def main(argv=None) -> int:
     print("\noutside it (share of all samples), by shared object:")
     for name, c in outside.most_common(8):
         print(f"  {100 * c / total:5.1f} %  {name}")
+    if lines:
+        print(f"\nthe {args.lines} source lines with most of the library's samples (the innermost inlined line; "
+              "then the line it was inlined at):")
+        for (where, caller), c in lines.most_common(args.lines):
+            print(f"  {100 * c / n_in:5.1f} %  {where}" + (f"   <- {caller}" if caller else ""))
     return 0
+
+
+def _source_lines(obj: Path, offsets, syms):
+    """Samples per (innermost source line, the line that inlined it) of the offsets inside the object's
+    functions, through addr2line on its debug information (``NUMBA_DEBUGINFO=1``)."""
+    starts = [s for s, _, _ in syms]
+    inside = [off for off in offsets
+              if (k := bisect.bisect_right(starts, off) - 1) >= 0 and off < syms[k][0] + syms[k][1]]
+    txt = subprocess.run(["addr2line", "-e", str(obj), "-i", "-a"] + [f"{off:x}" for off in inside],
+                         capture_output=True, text=True).stdout
+    out = collections.Counter()
+    frames = {}
+    cur = None
+    for line in txt.splitlines():
+        if line.startswith("0x"):
+            cur = int(line, 16)
+            frames[cur] = []
+        elif cur is not None:
+            frames[cur].append(re.sub(r".*/seispound/", "", line.split(" (")[0]))
+    for off, fr in frames.items():
+        fr = fr or ["??"]
+        out[(fr[0], fr[1] if len(fr) > 1 else "")] += offsets[off]
+    return out
 
 
 if __name__ == "__main__":

@@ -72,9 +72,14 @@ def assemble_band(cm, cc, ck, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, l
 
 @njit(cache=True)
 def linear_bands(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, n):
-    """KC (2, p + 1, n): the lower bands of K and of C diagonal by diagonal, KC[0, d, i] = K(i, i - d) for
-    i >= d and zero for i < d (``assemble_band``'s entries, stored so that each diagonal is contiguous)
-    of a row of n DOFs and half bandwidth p."""
+    """K and C of a row of n DOFs and half bandwidth p for ``linear_forces``: (KC, sp_i, sp_d, sp_kc).
+
+    KC (2, w, n): the lower diagonals d < w of K and of C, each contiguous, KC[0, d, i] = K(i, i - d) for
+    i >= d and zero for i < d (``assemble_band``'s entries); w - 1 is the last diagonal with more than
+    n / 4 entries.  The entries on diagonals d >= w, few where a foundation numbered last couples its
+    rows to every floor (an arrowhead, ``structure.band.profile_order``), are listed apart: row
+    sp_i (m,), diagonal sp_d (m,), and sp_kc (2, m) their K and C.
+    """
     L = np.empty((n, p + 2))
     KC = np.zeros((2, p + 1, n))
     for m in range(2):
@@ -82,16 +87,39 @@ def linear_bands(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p,
         for i in range(n):
             for d in range(min(p, i) + 1):
                 KC[m, d, i] = L[i, d]
-    return KC
+    w = 1
+    m_sp = 0
+    for d in range(1, p + 1):
+        nz = 0
+        for i in range(d, n):
+            nz += 1 if KC[0, d, i] != 0.0 or KC[1, d, i] != 0.0 else 0
+        if 4 * nz > n:
+            w = d + 1
+    for d in range(w, p + 1):
+        for i in range(d, n):
+            m_sp += 1 if KC[0, d, i] != 0.0 or KC[1, d, i] != 0.0 else 0
+    sp_i = np.empty(m_sp, np.int64)
+    sp_d = np.empty(m_sp, np.int64)
+    sp_kc = np.empty((2, m_sp))
+    m_sp = 0
+    for d in range(w, p + 1):
+        for i in range(d, n):
+            if KC[0, d, i] != 0.0 or KC[1, d, i] != 0.0:
+                sp_i[m_sp], sp_d[m_sp] = i, d
+                sp_kc[0, m_sp], sp_kc[1, m_sp] = KC[0, d, i], KC[1, d, i]
+                m_sp += 1
+    return np.ascontiguousarray(KC[:, :w]), sp_i, sp_d, sp_kc
 
 
 @njit(cache=True)
-def linear_forces(KC, u, v, f):
-    """f = K u + C v [N], shape (n,), from the bands of ``linear_bands``: the linear elements' springs and
-    dashpots and the mass-proportional damping, as one banded product (cheaper than a loop over the elements).
+def linear_forces(bands, u, v, f):
+    """f = K u + C v [N], shape (n,), from ``linear_bands``: the linear elements' springs and dashpots and
+    the mass-proportional damping (cheaper than a loop over the elements).
 
-    Diagonal by diagonal: each sub-diagonal d adds its lower and its upper (mirror) products in two loops of
-    unit stride on unsigned subscripts, which vectorise (a row-by-row loop scatters into f[i - d])."""
+    The dense diagonals one by one: each sub-diagonal d adds its lower and its upper (mirror) products in
+    two loops of unit stride on unsigned subscripts, which vectorise (a row-by-row loop scatters into
+    f[i - d]); then the listed entries of the others, each with its mirror."""
+    KC, sp_i, sp_d, sp_kc = bands
     n = np.uint64(f.size)
     w = np.uint64(KC.shape[1])
     for i in range(n):
@@ -101,6 +129,12 @@ def linear_forces(KC, u, v, f):
             f[i] += KC[0, d, i] * u[i - d] + KC[1, d, i] * v[i - d]
         for i in range(d, n):  # row i - d, column i: the mirror
             f[i - d] += KC[0, d, i] * u[i] + KC[1, d, i] * v[i]
+    for e in range(sp_i.size):
+        i = sp_i[e]
+        j = i - sp_d[e]
+        k, c = sp_kc[0, e], sp_kc[1, e]
+        f[i] += k * u[j] + c * v[j]
+        f[j] += k * u[i] + c * v[i]
 
 
 @njit(cache=True)

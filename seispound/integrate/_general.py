@@ -9,7 +9,8 @@ optimisation the fast driver makes).
 Method (Newmark 1959; Chopra, Dynamics of Structures, Table 5.7.2; Bathe 1996,
 Sec. 9.5): the linear part -- masses, linear springs and dashpots, all as
 coefficient vectors (``_elements.py``) -- gives A = K + gamma/(beta h) C +
-M/(beta h^2), banded, factored once per step size (``_linear._factor_band``).
+M/(beta h^2), banded, factored once per step size within its envelope (``_linear._factor_profile``;
+a foundation's DOFs are numbered after its floors, ``newmark._profile_numbered``).
 The elements with state -- hysteretic storeys (always) and gaps (while closed)
 -- are condensed: with their end-of-step forces F frozen the step is
 Du = Du_lin - sum_q A^-1 b_q F_q, so the Newton-Raphson iteration runs on the
@@ -54,7 +55,7 @@ from ._elements import (_add_to_band, _dot, _scatter, assemble_band, kinetic_ene
                         lumped_diagonal, mass_times, strain_energy)
 from ._events import LAND_TOL, _event_in_step, _gap_event, _hermite
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
-from ._linear import _dense_solve, _factor_band, _solve_range
+from ._linear import _dense_solve, _factor_profile, _solve_profile
 from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY
 from ._material import (ST_DELTA, ST_EPS, ST_PLASTIC, ST_Z, bouc_wen_path, material_commit,
                         material_energy, material_trial)
@@ -93,7 +94,7 @@ def _factor(cm, cc, lin, el, elastic, pb, L):
         for q in range(ne_gap.size):
             if not ne_gap[q]:
                 _add_to_band(ne_dof, ne_coef, q, ne_par[q, B_K], L)
-    return _factor_band(L, pb, 0, L.shape[0])
+    return _factor_profile(L, pb, lin[10], 0, L.shape[0])
 
 
 @njit(cache=True)
@@ -163,7 +164,7 @@ def _acceleration(LM, pm, lin, dof_load, dof_motion, g, u, v, ne_dof, ne_coef, F
     for q in range(F.size):
         if F[q] != 0.0:
             _scatter(ne_dof, ne_coef, q, -F[q], a)
-    _solve_range(LM, pm, a, a, 0, a.size)
+    _solve_profile(LM, pm, lin[10], a, a, 0, a.size)
 
 
 @njit(cache=True, inline="always")
@@ -189,11 +190,11 @@ def _predictor(h, beta, gamma, Lf, p, lin, dof_load, dof_motion, g1, u, v, a, Vv
         for q in range(ne_gap.size):
             if not ne_gap[q]:
                 _scatter(ne_dof, ne_coef, q, -F[q], R0)
-    _solve_range(Lf, p, R0, Du, 0, u.size)
+    _solve_profile(Lf, p, lin[10], R0, Du, 0, u.size)
 
 
 @njit(cache=True)
-def _columns(Lf, p, ne_dof, ne_coef, ne_lo, ne_hi, act, m, W, W_ok):
+def _columns(Lf, p, first, ne_dof, ne_coef, ne_lo, ne_hi, act, m, W, W_ok):
     """W[q] = A^-1 b_q for the active elements that lack it under the current factor.
 
     A is block diagonal over the buildings, so the column is nonzero only on the DOFs
@@ -206,7 +207,7 @@ def _columns(Lf, p, ne_dof, ne_coef, ne_lo, ne_hi, act, m, W, W_ok):
         for i in range(ne_lo[q], ne_hi[q]):
             W[q, i] = 0.0
         _scatter(ne_dof, ne_coef, q, 1.0, W[q])
-        _solve_range(Lf, p, W[q], W[q], ne_lo[q], ne_hi[q])
+        _solve_profile(Lf, p, first, W[q], W[q], ne_lo[q], ne_hi[q])
         W_ok[q] = True
 
 
@@ -227,14 +228,14 @@ def _newton_tangent(lo, hi, act, el, dl, rl, Fm, cc, st_c, st_t, fac, work, scal
     Golub & Van Loan 2013, Sec. 2.1.4).  The trial forces' deformations use
     G F = B^T A^-1 (B F), one solve with A's factor.
 
-    el = (ne_dof, ne_coef, ne_code, ne_par, ne_gap); fac = (Lf, p, Aband, T, pT, dlo, dhi): A's
-    factor (half bandwidth p), A's unfactored band and the tangent's storage, (n, pT + 2), and
-    the group's DOF range; work = (z, x, resv, kt, Wt, Sg, yg, gpos).
+    el = (ne_dof, ne_coef, ne_code, ne_par, ne_gap); fac = (Lf, p, Aband, T, pT, dlo, dhi, first): A's
+    factor (half bandwidth p), A's unfactored band and the tangent's storage, (n, pT + 2), the
+    group's DOF range and the envelope both factors keep to; work = (z, x, resv, kt, Wt, Sg, yg, gpos).
     Returns (converged, iterations beyond the first evaluation); a tangent that is not positive
     definite ends the iteration unconverged (the driver then shortens the step).
     """
     ne_dof, ne_coef, ne_code, ne_par, ne_gap = el
-    Lf, p, Aband, T, pT, dlo, dhi = fac
+    Lf, p, Aband, T, pT, dlo, dhi, first = fac
     z, x, resv, kt, Wt, Sg, yg, gpos = work
     it = 0
     while True:
@@ -243,7 +244,7 @@ def _newton_tangent(lo, hi, act, el, dl, rl, Fm, cc, st_c, st_t, fac, work, scal
             z[i] = 0.0
         for k in range(lo, hi):
             _scatter(ne_dof, ne_coef, act[k], Fm[k], z)
-        _solve_range(Lf, p, z, z, dlo, dhi)
+        _solve_profile(Lf, p, first, z, z, dlo, dhi)
         rn = 0.0
         sc = scale
         for k in range(lo, hi):
@@ -268,21 +269,21 @@ def _newton_tangent(lo, hi, act, el, dl, rl, Fm, cc, st_c, st_t, fac, work, scal
                 m_g += 1
             else:
                 _add_to_band(ne_dof, ne_coef, q, kt[k], T)
-        if not _factor_band(T, pT, dlo, dhi):
+        if not _factor_profile(T, pT, first, dlo, dhi):
             return False, it
         # x = (A + B K_t B^T)^-1 B res: T^-1, then the gaps' Woodbury correction
         for i in range(dlo, dhi):
             x[i] = 0.0
         for k in range(lo, hi):
             _scatter(ne_dof, ne_coef, act[k], resv[k], x)
-        _solve_range(T, pT, x, x, dlo, dhi)
+        _solve_profile(T, pT, first, x, x, dlo, dhi)
         if m_g > 0:
             for j in range(m_g):
                 w = Wt[j]
                 for i in range(dlo, dhi):
                     w[i] = 0.0
                 _scatter(ne_dof, ne_coef, act[gpos[j]], 1.0, w)
-                _solve_range(T, pT, w, w, dlo, dhi)
+                _solve_profile(T, pT, first, w, w, dlo, dhi)
             for a in range(m_g):
                 qa = act[gpos[a]]
                 ka = kt[gpos[a]]
@@ -343,10 +344,10 @@ def _solve_groups(grp, elg, stp, frc, fac, band, wrk, opts):
                 assemble_band(cm, cc, 1.0, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, pT, Aband)
                 h_A = h
             ok_c, it_c = _newton_tangent(lo_c, hi_c, act, (ne_dof, ne_coef, ne_code, ne_par, ne_gap), dl, rl, Fm,
-                                         cc, st_c, st_t, (Lf, p, Aband, T, pT, dlo, dhi), twork, scale, rtol,
+                                         cc, st_c, st_t, (Lf, p, Aband, T, pT, dlo, dhi, lin[10]), twork, scale, rtol,
                                          max_iter)
         else:
-            _columns(Lf, p, ne_dof, ne_coef, ne_lo, ne_hi, act[lo_c:hi_c], hi_c - lo_c, W, W_ok)
+            _columns(Lf, p, lin[10], ne_dof, ne_coef, ne_lo, ne_hi, act[lo_c:hi_c], hi_c - lo_c, W, W_ok)
             for k in range(lo_c, hi_c):
                 for r in range(lo_c, hi_c):
                     Gm[k, r] = _dot(ne_dof, ne_coef, act[k], W[act[r]])
@@ -710,7 +711,7 @@ def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1
 
 
 @njit(cache=True)
-def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, dof_load, dof_motion, dof_infl,
+def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, numbering, dof_load, dof_motion, dof_infl,
                    ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi, state0, ag, moving, ne_ground,
                    u_init, v_init, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store, tangent, pT, lev_free, flags,
                    out_u, out_v, out_a, out_f, out_e, umax, fmax,
@@ -720,7 +721,11 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     Shapes: n DOFs, nn elements with state, nm motion rows, nt = nsteps + 1.
     ms_* : masses (nms, 3) / (nms,) [kg], ms_a0 [1/s] their proportional damping;
     le_* : linear elements (nle, 3) / (nle,), le_k [N/m], le_c [N s/m];
-    p : half bandwidth of M, C and K; dof_load (n,) [kg]: M iota, the load per
+    p : half bandwidth of M, C and K; numbering = (first, out_col), (n,) int64 each: the first column of
+    each row's lower envelope in M, C, K and the storeys' elastic stiffness (``structure.band.envelope``;
+    every factor is a profile factor, ``_linear._factor_profile``, within max(first[i], i - its half
+    bandwidth)), and the output column of each DOF (the row's own numbering, where the driver's is
+    another: ``newmark._profile_numbered``); dof_load (n,) [kg]: M iota, the load per
     unit ground acceleration of row dof_motion (n,); dof_infl (n,): iota;
     ne_* : elements with state (nn, 4) / (nn,) / (nn, N_PAR), ne_gap (nn,)
     True for a gap (events, active only while closed), False for a storey
@@ -751,6 +756,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     # arguments: alive for the whole call, so borrowed (``_borrow``: no reference counting in the loop)
     ms_dof, ms_coef, ms_val, ms_a0 = borrow(ms_dof), borrow(ms_coef), borrow(ms_val), borrow(ms_a0)
     le_dof, le_coef, le_k, le_c = borrow(le_dof), borrow(le_coef), borrow(le_k), borrow(le_c)
+    first, out_col = borrow(numbering[0]), borrow(numbering[1])
     dof_load, dof_motion, dof_infl = borrow(dof_load), borrow(dof_motion), borrow(dof_infl)
     ne_dof, ne_coef, ne_size, ne_code = borrow(ne_dof), borrow(ne_coef), borrow(ne_size), borrow(ne_code)
     ne_par, ne_gap, ne_lo, ne_hi = borrow(ne_par), borrow(ne_gap), borrow(ne_lo), borrow(ne_hi)
@@ -767,10 +773,11 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     nn = ne_size.size
     nm = ag.shape[0]
     cap = imp_gap.size
-    # the linear part as elements (assembly), as the bands of K and C (its forces) and M's diagonal if lumped
+    # the linear part as elements (assembly), as the bands of K and C (its forces), M's diagonal if lumped
+    # and the envelope every factor keeps to
     lin = (ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c,
            linear_bands(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, u_init.size),
-           lumped_diagonal(ms_dof, ms_coef, ms_val, u_init.size))
+           lumped_diagonal(ms_dof, ms_coef, ms_val, u_init.size), first, out_col)
     nw = max(nn, 1)
     # -- work arrays -----------------------------------------------------------
     cache_A = _factor_cache(N_LEVELS, n, p, nw)  # A(h)'s factors and their gap columns (``_cached_factor``)
@@ -867,7 +874,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     n_imp = 0
     t = 0.0
     assemble_band(1.0, 0.0, 0.0, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, LM)
-    if not _factor_band(LM, p, 0, n):
+    if not _factor_profile(LM, p, lin[10], 0, n):
         return NEWTON_FAILED, 0, 0.0  # a DOF without mass (the front end refuses it first)
 
     # -- initial state: storeys active, gaps closing at t = 0 start an impact ------
@@ -1136,10 +1143,12 @@ def _output(k, store, u, v, a, g, dof_motion, dof_infl, F, lin, ne_code, ne_par,
             fmax[q] = max(F[q], 0.0) if ne_gap[q] else abs(F[q])
     if not store and not first:
         return
+    col = lin[11]  # the output column of each DOF
     for i in range(u.size):
-        out_u[k, i] = u[i]
-        out_v[k, i] = v[i]
-        out_a[k, i] = a[i] + dof_infl[i] * g[dof_motion[i]]
+        c = col[i]
+        out_u[k, c] = u[i]
+        out_v[k, c] = v[i]
+        out_a[k, c] = a[i] + dof_infl[i] * g[dof_motion[i]]
     rec = 0.0
     for q in range(F.size):
         out_f[k, q] = F[q]

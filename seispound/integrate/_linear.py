@@ -4,7 +4,8 @@ Masses are lumped, storeys are two-node springs (``el_i``, ``el_j``; -1 = the
 ground) with a stiffness ``el_k`` and a stiffness-proportional dashpot
 ``el_a1 * el_k`` plus the mass-proportional ``dof_a0 * mass``.  Factor/solve
 strategies: tridiagonal L D L^T (p = 1, shear buildings) or banded Cholesky
-(p > 1), restricted to a range of DOFs when only some buildings step; the
+(p > 1), or for the general driver a profile (envelope) Cholesky, restricted
+to a range of DOFs when only some buildings step; the
 contact gaps enter as a low-rank border through Woodbury columns
 K_hat^-1 b_g, or, for a one-off step size with several gaps closed, through
 the semiseparable inverse of the tridiagonal K_hat (O(n + m^2)).
@@ -405,3 +406,67 @@ def _strain_energy(el_i, el_j, el_k, u):
             du -= u[el_j[e]]
         es += 0.5 * el_k[e] * du * du
     return es
+
+
+# -- profile (envelope) storage: the general driver's A, M and banded tangent -----------------
+# Row i of a profile matrix holds its entries from column first[i] to i in the band storage
+# L[i, i - j] (j >= first[i] >= i - p); outside that envelope the entries are zero and stay zero
+# through the factorisation (George & Liu 1981, Computer Solution of Large Sparse Positive Definite
+# Systems, Sec. 4.2: fill is confined to the envelope).  A building on a foundation couples every
+# floor to its sway and rocking DOFs; numbered last (``structure.band.profile_order``), they make
+# an arrowhead whose envelope is the tridiagonal plus two full rows, where the band is full.
+
+
+@njit(cache=True, inline="always")
+def _factor_profile(L, p, first, lo, hi):
+    """Factor in place, rows lo..hi-1, the matrix whose lower envelope L[i, i - j], first[i] <= j <= i,
+    holds (``_factor_band``'s storage: the inverse diagonal in column p + 1, or 2 for p = 1).
+
+    Row-oriented (skyline) Cholesky (Bathe 1996, Finite Element Procedures, Sec. 8.2.3, in its
+    L L^T form): L[i, j] = (A[i, j] - sum_k L[i, k] L[j, k]) / L[j, j] over k from max(first[i],
+    first[j]) to j - 1.  The envelope is taken within the band, first[i] >= i - p, so that one
+    envelope (of the union of the matrices) serves factors of different half bandwidths p; with
+    first[i] <= i - p it is the banded Cholesky in another order; p = 1 takes the tridiagonal
+    L D L^T of ``_factor_band``.  False if not positive definite.
+    """
+    if p == 1:
+        return _factor_band(L, p, lo, hi)
+    for i in range(lo, hi):
+        fi = max(lo, first[i], i - p)  # (an envelope wider than this band is clipped to it)
+        for j in range(fi, i):
+            s = L[i, i - j]
+            for k in range(max(fi, first[j]), j):  # (fi > j - p)
+                s -= L[i, i - k] * L[j, j - k]
+            L[i, i - j] = s * L[j, p + 1]
+        s = L[i, 0]
+        for k in range(fi, i):
+            s -= L[i, i - k] * L[i, i - k]
+        if s <= 0.0:
+            return False
+        L[i, 0] = math.sqrt(s)
+        L[i, p + 1] = 1.0 / L[i, 0]
+    return True
+
+
+@njit(cache=True, inline="always")
+def _solve_profile(L, p, first, b, x, lo, hi):
+    """x[lo:hi] = A^-1 b on DOFs lo..hi-1 (whole buildings) with the factor of ``_factor_profile``.
+
+    Forward by rows, backward by columns of L (each row of L^T's transpose at once), so that both
+    sweeps touch only the envelope; x may alias b.
+    """
+    if hi <= lo:
+        return
+    if p == 1:
+        _solve_range(L, p, b, x, lo, hi)
+        return
+    for i in range(lo, hi):
+        s = b[i]
+        for k in range(max(lo, first[i], i - p), i):
+            s -= L[i, i - k] * x[k]
+        x[i] = s * L[i, p + 1]
+    for i in range(hi - 1, lo - 1, -1):
+        xi = x[i] * L[i, p + 1]
+        x[i] = xi
+        for k in range(max(lo, first[i], i - p), i):
+            x[k] -= L[i, i - k] * xi

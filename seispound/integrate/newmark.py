@@ -14,7 +14,7 @@ from ..errors import InputError
 from .settings import Newmark
 from ..motion.spatial import ground_motion_integrals
 from . import _kernel as K
-from ..structure.band import bandwidth
+from ..structure.band import bandwidth, envelope, profile_order
 from ._multirate import WAIT_SHARE
 from .modal import dof_blocks, modal_basis
 
@@ -460,26 +460,15 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
 
     ag = np.ascontiguousarray(np.atleast_2d(np.asarray(ground_acceleration, dtype=float)))
     _check_input(system, ag, dt, nsteps)
-    tab = system.element_tables()
-    keep = ~(tab["ne_gap"] & (tab["ne_code"] == 0))  # gaps disabled (the no-pounding twin) are left out
-    for k in ("ne_dof", "ne_coef", "ne_size", "ne_code", "ne_par", "ne_gap"):
-        tab[k] = np.ascontiguousarray(tab[k][keep])
-    ne_gap = tab["ne_gap"]
-    n, nn, ng_all = system.n_dof, ne_gap.size, system.n_gap
-    hyst = np.flatnonzero(system.el_law) if system.el_law is not None else np.zeros(0, np.int64)
-    live = np.flatnonzero(system.gap_law != 0)  # the system's gap of each gap element
-    # each element's differential ground motion: gaps between different motion rows only
-    side = np.zeros((2, nn), np.int64)
-    for q in np.flatnonzero(ne_gap):
-        d, c = tab["ne_dof"][q], tab["ne_coef"][q]
-        side[0, q] = system.dof_motion[d[(d >= 0) & (c > 0)][0]]
-        side[1, q] = system.dof_motion[d[(d >= 0) & (c < 0)][0]]
+    row = _general_row(system)
+    tab, order, dof_motion, u0, v0, side = row["tab"], row["order"], row["dof_motion"], row["u0"], row["v0"], row["side"]
+    n, ne_gap, live, hyst = system.n_dof, tab["ne_gap"], row["live"], row["hyst"]
+    nn, ng_all = ne_gap.size, system.n_gap
     ground = gap_ground_motion(side[0], side[1], ag, dt)
     moving = ground.shape[2] > 1
     cap = impact_capacity or max(256, nsteps // 4 + 16 * max(len(live), 1))
     nt = nsteps + 1 if store_history else 1
-    ne_lo, ne_hi = _element_ranges(tab, n)
-    p_tangent = max(int(tab["p"]), bandwidth(n, tab["ne_dof"][~ne_gap]))  # the band with the storeys in it
+    ne_lo, ne_hi, p_tangent = row["ne_lo"], row["ne_hi"], row["p_tangent"]
     lev_free = int(round(math.log2(substeps))) if substeps else 0
     from ..storey.codes import BILINEAR, BOUC_WEN
 
@@ -490,7 +479,8 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     # scheme's free flight must equal its physical path to round-off, the off switch's comparison)
     bouc_wen = bool(np.any(codes == BOUC_WEN) and np.all((codes == BILINEAR) | (codes == BOUC_WEN))
                     and scheme == "exact" and hysteretic_flight)
-    ff = (_free_flight_maps(system, tab, ag.shape[0], dt, nm, scheme, 2 ** lev_free, bouc_wen)
+    ff = (_free_flight_maps(lambda: _renumbered_matrices(system, order), dof_motion, tab, ag.shape[0], dt, nm,
+                            scheme, 2 ** lev_free, bouc_wen)
           if free_flight and (bilinear or bouc_wen) else None)
     el_pred = bool(elastic_predictor and storeys.any() and bilinear)
     i0 = np.zeros(1, np.int64)
@@ -506,13 +496,8 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
         announce_compile(G.general_kernel, "general")
         f = _writable
         return (*G.general_kernel(
-            *f(tab["ms_dof"], tab["ms_coef"], tab["ms_val"], tab["ms_a0"], tab["le_dof"], tab["le_coef"],
-               tab["le_k"], tab["le_c"]), int(tab["p"]), *f(tab["dof_load"], system.dof_motion.astype(np.int64),
-                                                            tab["dof_infl"], tab["ne_dof"], tab["ne_coef"],
-                                                            tab["ne_size"], tab["ne_code"], tab["ne_par"], ne_gap,
-                                                            ne_lo, ne_hi),
-            np.zeros((nn, N_STATE)), *f(ag), moving, *f(ground, np.asarray(system.u0, float),
-                                                        np.asarray(system.v0, float)),
+            *row["linear"], int(tab["p"]), row["numbering"], *row["elements"],
+            np.zeros((nn, N_STATE)), *f(ag), moving, *f(ground), u0, v0,
             float(dt), int(nsteps), float(nm.beta), float(nm.gamma), (_substeps(nm), float(contact_step)),
             float(nm.rtol), int(nm.max_iter), bool(store_history), bool(tangent), int(p_tangent), lev_free,
             (ff_args, el_pred),
@@ -520,6 +505,8 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
             out)
 
     n_imp, out = _run_growing(run, cap)
+    if order is not None:  # the histories are written in the row's own DOF order (``out_col``), the peaks not
+        out["umax"] = out["umax"][row["numbering"][1].argsort()]
     gap_cols = np.flatnonzero(ne_gap)
     force = np.zeros((nt, ng_all))
     force[:, live] = out["out_f"][:, gap_cols]
@@ -542,7 +529,103 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
                      scheme=scheme if ff is not None else "newmark")
 
 
-def _free_flight_maps(system, tab, nm_rows, dt, nm, scheme, substeps, quadratic=False):
+def _general_row(system) -> dict:
+    """What the general driver takes of ``system`` apart from the record and the settings, prepared once.
+
+    The element tables without the disabled gaps (a no-pounding twin's), numbered for a small envelope
+    (``_profile_numbered``), in the kernel's argument order (``linear``, ``elements``, ``numbering``),
+    with each element's DOF range, the tangent's band, each gap's two motion rows (``side``) and the
+    system's hysteretic elements and live gaps.  Kept on the system when its arrays are read-only
+    (``Model.assembled``'s, shared by every run of a model: a run and its check, a study's runs), so that a
+    repeated run pays none of this; a system built by hand is prepared anew each time, since it may be
+    edited in place.
+    """
+    if getattr(system, "_general_row", None) is not None:
+        return system._general_row
+    tab = system.element_tables()
+    keep = ~(tab["ne_gap"] & (tab["ne_code"] == 0))  # gaps disabled (the no-pounding twin) are left out
+    for k in ("ne_dof", "ne_coef", "ne_size", "ne_code", "ne_par", "ne_gap"):
+        tab[k] = np.ascontiguousarray(tab[k][keep])
+    n = system.n_dof
+    order, tab, dof_motion, u0, v0 = _profile_numbered(tab, n, system.dof_motion, system.u0, system.v0)
+    ne_gap = tab["ne_gap"]
+    side = np.zeros((2, ne_gap.size), np.int64)  # each gap's motion rows: its differential ground motion
+    for q in np.flatnonzero(ne_gap):
+        d, c = tab["ne_dof"][q], tab["ne_coef"][q]
+        side[0, q] = dof_motion[d[(d >= 0) & (c > 0)][0]]
+        side[1, q] = dof_motion[d[(d >= 0) & (c < 0)][0]]
+    ne_lo, ne_hi = _element_ranges(tab, n)
+    f = _writable
+    out_col = np.arange(n, dtype=np.int64) if order is None else np.ascontiguousarray(order, np.int64)
+    row = dict(tab=tab, order=order, dof_motion=dof_motion, u0=f(u0)[0], v0=f(v0)[0], side=side,
+               ne_lo=ne_lo, ne_hi=ne_hi,
+               p_tangent=max(int(tab["p"]), bandwidth(n, tab["ne_dof"][~ne_gap])),  # the band with the storeys
+               hyst=np.flatnonzero(system.el_law) if system.el_law is not None else np.zeros(0, np.int64),
+               live=np.flatnonzero(system.gap_law != 0),  # the system's gap of each gap element
+               linear=f(*(tab[k] for k in ("ms_dof", "ms_coef", "ms_val", "ms_a0", "le_dof", "le_coef", "le_k",
+                                          "le_c"))),
+               numbering=(np.ascontiguousarray(tab["first"], np.int64), out_col),
+               elements=f(tab["dof_load"], dof_motion, tab["dof_infl"], tab["ne_dof"], tab["ne_coef"],
+                          tab["ne_size"], tab["ne_code"], tab["ne_par"], ne_gap, ne_lo, ne_hi))
+    if not system.mass.flags.writeable:
+        system._general_row = row
+    return row
+
+
+def _profile_numbered(tab, n, dof_motion, u0, v0):
+    """The general driver's tables on DOFs numbered for a small envelope (``structure.band.profile_order``).
+
+    Returns (order or None, tables with the envelope ``first`` and the band ``p`` of that numbering,
+    dof_motion, u0, v0 renumbered); order[new] = old.  Each building keeps its block, so outputs come
+    back by one column permutation.  A building on a foundation numbers its sway and rocking DOFs
+    first, which couple to every floor: renumbered last, its factor costs the tridiagonal's and two
+    full rows instead of a full band (``_linear._factor_profile``).
+    """
+    storeys = tab["ne_dof"][~tab["ne_gap"]]
+    key = hashlib.blake2b(repr((n, storeys.shape)).encode())
+    for x in (tab["ms_dof"], tab["le_dof"], storeys):
+        key.update(np.ascontiguousarray(x).tobytes())
+    key = key.digest()
+    if key not in _ORDERS:  # kept per pattern: a fit's evaluations and a study's runs share it
+        if len(_ORDERS) >= 64:
+            _ORDERS.pop(next(iter(_ORDERS)))
+        _ORDERS[key] = _profile_order(tab, n, storeys)
+    order, new, p, first = _ORDERS[key]
+    dof_motion = np.asarray(dof_motion, np.int64)
+    u0, v0 = np.asarray(u0, float), np.asarray(v0, float)
+    tab = dict(tab, first=first)
+    if order is not None:
+        for k in ("ms_dof", "le_dof", "ne_dof"):
+            tab[k] = np.ascontiguousarray(np.where(tab[k] >= 0, new[np.maximum(tab[k], 0)], -1))
+        tab["dof_load"], tab["dof_infl"] = tab["dof_load"][order], tab["dof_infl"][order]
+        dof_motion, u0, v0 = dof_motion[order], u0[order], v0[order]
+        tab["p"] = p
+    return order, tab, np.ascontiguousarray(dof_motion), np.ascontiguousarray(u0), np.ascontiguousarray(v0)
+
+
+def _profile_order(tab, n, storeys):
+    """(order or None, its inverse, the band and the envelope in the new numbering) of ``_profile_numbered``."""
+    from .transition import components
+
+    order = profile_order(n, components(tab, n), tab["ms_dof"], tab["le_dof"], storeys)
+    if order is None:
+        return None, None, int(tab["p"]), envelope(n, tab["ms_dof"], tab["le_dof"], storeys)
+    new = np.empty(n, np.int64)
+    new[order] = np.arange(n)
+    ren = [np.where(x >= 0, new[np.maximum(x, 0)], -1) for x in (tab["ms_dof"], tab["le_dof"], storeys)]
+    return order, new, bandwidth(n, *ren[:2]), envelope(n, *ren)
+
+
+_ORDERS: dict = {}  # digest of the tables' DOFs -> _profile_order's result, oldest first
+
+
+def _renumbered_matrices(system, order):
+    """The row's dense (M, C, K) (``SystemArrays.matrices``), renumbered by ``order`` (None: as they are)."""
+    mats = system.matrices()
+    return mats if order is None else tuple(np.asarray(x)[np.ix_(order, order)] for x in mats)
+
+
+def _free_flight_maps(matrices, dof_motion, tab, nm_rows, dt, nm, scheme, substeps, quadratic=False):
     """The general driver's free-flight maps (``transition.Transition``), or None where they do not apply.
 
     The caller has checked that the elements with state are gaps and bilinear storeys (piecewise
@@ -550,12 +633,13 @@ def _free_flight_maps(system, tab, nm_rows, dt, nm, scheme, substeps, quadratic=
     (their offsets a quadratic load within the step: ``transition._exact_maps``).  They apply when every building is a
     contiguous run of at most ``transition.MAX_BLOCK_DOFS`` DOFs and, for the Newmark scheme, the rule
     is average acceleration (whose trapezoidal energy sums the free-flight balance reproduces).
+    ``matrices``: a callable returning the row's dense (M, C, K) in the tables' numbering (called only
+    when the maps are not kept already); ``dof_motion`` (n,) int64 in that numbering.
     """
     from .transition import transition
 
     if scheme == "newmark" and (nm.beta, nm.gamma) != (0.25, 0.5):
         return None
-    dof_motion = np.asarray(system.dof_motion, np.int64)
     # kept per content: a run's no-pounding twin, the tolerance's check and a study's runs share the row's
     # linear part, and the matrix exponentials cost about a millisecond per building
     h = hashlib.blake2b(repr((nm_rows, float(dt), scheme, nm.beta, nm.gamma, substeps, quadratic)).encode())
@@ -568,7 +652,7 @@ def _free_flight_maps(system, tab, nm_rows, dt, nm, scheme, substeps, quadratic=
     if key not in _TRANSITIONS:
         if len(_TRANSITIONS) >= 32:
             _TRANSITIONS.pop(next(iter(_TRANSITIONS)))
-        _TRANSITIONS[key] = transition(tab, system.matrices(), dof_motion, nm_rows, dt, scheme, nm.beta,
+        _TRANSITIONS[key] = transition(tab, matrices(), dof_motion, nm_rows, dt, scheme, nm.beta,
                                        nm.gamma, substeps, quadratic)
     return _TRANSITIONS[key]
 

@@ -172,8 +172,9 @@ def main(argv=None) -> int:
     ap.add_argument("--seconds", type=float, default=10.0, help="length of the sampled loop (default 10)")
     ap.add_argument("--frequency", type=int, default=10000, help="perf sampling frequency [Hz]")
     ap.add_argument("--lines", type=int, default=0, metavar="N",
-                    help="also the N source lines with most samples, inlined helpers resolved to their own "
-                    "lines (compiles with NUMBA_DEBUGINFO=1; needs addr2line)")
+                    help="also the N source lines with most samples; numba inlines in its own IR, so an "
+                    "inlined helper's samples fall on the helper's lines (compiles with NUMBA_DEBUGINFO=1; "
+                    "needs addr2line)")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
@@ -262,33 +263,23 @@ def main(argv=None) -> int:
     for name, c in outside.most_common(8):
         print(f"  {100 * c / total:5.1f} %  {name}")
     if lines:
-        print(f"\nthe {args.lines} source lines with most of the library's samples (the innermost inlined line; "
-              "then the line it was inlined at):")
-        for (where, caller), c in lines.most_common(args.lines):
-            print(f"  {100 * c / n_in:5.1f} %  {where}" + (f"   <- {caller}" if caller else ""))
+        print(f"\nthe {args.lines} source lines with most of the library's samples ('?': no line recorded):")
+        for where, c in lines.most_common(args.lines):
+            print(f"  {100 * c / n_in:5.1f} %  {where}")
     return 0
 
 
 def _source_lines(obj: Path, offsets, syms):
-    """Samples per (innermost source line, the line that inlined it) of the offsets inside the object's
-    functions, through addr2line on its debug information (``NUMBA_DEBUGINFO=1``)."""
+    """Samples per source line of the offsets inside the object's functions, through addr2line on its
+    debug information (``NUMBA_DEBUGINFO=1``)."""
     starts = [s for s, _, _ in syms]
     inside = [off for off in offsets
               if (k := bisect.bisect_right(starts, off) - 1) >= 0 and off < syms[k][0] + syms[k][1]]
-    txt = subprocess.run(["addr2line", "-e", str(obj), "-i", "-a"] + [f"{off:x}" for off in inside],
-                         capture_output=True, text=True).stdout
+    txt = subprocess.run(["addr2line", "-e", str(obj), "-a"] + [f"{off:x}" for off in inside],
+                         capture_output=True, text=True).stdout.splitlines()
     out = collections.Counter()
-    frames = {}
-    cur = None
-    for line in txt.splitlines():
-        if line.startswith("0x"):
-            cur = int(line, 16)
-            frames[cur] = []
-        elif cur is not None:
-            frames[cur].append(re.sub(r".*/seispound/", "", line.split(" (")[0]))
-    for off, fr in frames.items():
-        fr = fr or ["??"]
-        out[(fr[0], fr[1] if len(fr) > 1 else "")] += offsets[off]
+    for addr, where in zip(txt[0::2], txt[1::2]):  # -a: the address, then its file:line
+        out[re.sub(r".*/seispound/", "", where.split(" (")[0])] += offsets[int(addr, 16)]
     return out
 
 

@@ -152,8 +152,9 @@ def announce_compile(kernel, driver: str, stream=None) -> bool:
     package (``cache=True``); only a first use after installing (or after the code
     changed) compiles, which takes tens of seconds.  Returns True if it said so.
     """
-    # a kernel swapped for a plain function (benchmarks.attempts' counting copy) compiles nothing here
-    if driver in _ANNOUNCED or getattr(kernel, "signatures", True):
+    # a kernel swapped for a plain function (benchmarks.attempts' counting copy) compiles nothing here;
+    # ``overloads`` is a dict (``signatures`` builds a list of every type, 50 us on each run)
+    if driver in _ANNOUNCED or getattr(kernel, "overloads", True):
         return False
     try:
         cached = os.path.exists(kernel._cache._cache_file._index_path)

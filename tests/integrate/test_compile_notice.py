@@ -8,7 +8,8 @@ from seispound.integrate import newmark
 
 
 def _kernel(signatures, index_path):
-    return SimpleNamespace(signatures=signatures,
+    # numba's dispatcher keeps its compiled overloads in a dict keyed by signature
+    return SimpleNamespace(overloads={s: None for s in signatures},
                            _cache=SimpleNamespace(_cache_file=SimpleNamespace(_index_path=str(index_path))))
 
 
@@ -35,3 +36,4 @@ def test_silent_when_compiled_or_cached(tmp_path, monkeypatch):
 def test_the_real_kernel_has_the_cache_layout_the_notice_reads():
     # numba's FunctionCache keeps its index path here; if a numba release moves it, the notice goes quiet
     assert G.general_kernel._cache._cache_file._index_path.endswith(".nbi")
+    assert isinstance(G.general_kernel.overloads, dict)

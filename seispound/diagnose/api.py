@@ -460,8 +460,9 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
         # wrong base parameter, left nominal, is soaked up by it
         say(f"fitting {len(names)} hypotheses in all their forms, each with the base parameters ({jobs} at once)")
         recal_values = {p.path: get_value(recal, p.path) for p in base_params}
-        outcomes = _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, base_fit.ne_mean_after,
-                            joint=joint, alt=recal_values, say=say)
+        # a list: judged here, and read again by the instrument-fault test ("under every hypothesis fitted")
+        outcomes = list(_fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, base_fit.ne_mean_after,
+                                 joint=joint, alt=recal_values, say=say, n_eff=n_eff))
         offset = len(joint)
     ref = _Step(None, base_fit, bic_base, len(base_params))
     accepted, entries = _judge(outcomes, ref, n, n_eff, say, offset=offset)
@@ -480,7 +481,8 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
             second = tomllib.loads(first_step.fit.model_text)
             fitted = [f"{q}={v['lo']!r}:{v['hi']!r}" for q, v in first_step.fit.parameters.items()]
             more, entries = _judge(_fit_all(rest, second, base, chans, trial_list, max_evaluations, jobs,
-                                            first_step.fit.ne_mean_after, joint=fitted, say=say), first_step, n, n_eff,
+                                            first_step.fit.ne_mean_after, joint=fitted, say=say, n_eff=n_eff),
+                                   first_step, n, n_eff,
                                    say, offset=max(first_step.p, len(fitted)))
             for name, entry in entries.items():
                 tried.setdefault(name, {})["on_top_of_" + first_step.name] = entry
@@ -550,7 +552,7 @@ STEP = 1e-3  # finite-difference step, a fraction of each parameter's (log-)rang
 
 
 def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_base, joint=(), alt=None,
-             say=lambda msg: None):
+             say=lambda msg: None, n_eff=None):
     """Yield (name, (fit, number of the hypothesis's own parameters, whether it was polished) or an error
     string) per hypothesis, fitted in parallel processes.
 
@@ -563,8 +565,9 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
     fitted: the base's, and a first physics's).  Once every short fit is in, every form within WITHIN
     of the best short fit is polished too (at least the closest): ten iterations from the null point or
     a scan point may not reach a minimum that is far away, so a ranking of short fits must not drop a
-    form that can still win.  A hypothesis keeps its best form.  ``say`` reports each task as it
-    ends (progress through the longest phase of a diagnosis).
+    form that can still win.  A hypothesis keeps its best-fitting form; an alternative (wrong parameters)
+    keeps its form with the best information criterion at the effective sample size ``n_eff``, where
+    given.  ``say`` reports each task as it ends (progress through the longest phase of a diagnosis).
     """
     import heapq
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -647,7 +650,16 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
         outs = [(final[f], f in polished) for f in forms if f[0] == name and f in final]
         fits = [(o, p) for o, p in outs if not isinstance(o, str)]
         if fits:
-            (fit, specs), was_polished = min(fits, key=lambda o: o[0][0].ne_mean_after)
+            def misfit(o):
+                return o[0][0].ne_mean_after
+
+            def criterion(o):  # the BIC of ``_judge`` less the terms every form shares
+                return n_eff * math.log(max(_rss(o[0][0]), 1e-300)) + len(o[0][1]) * math.log(n_eff)
+            # a physics keeps its best-fitting form (the model it would augment); wrong parameters, the
+            # explanation a physics must beat, keep their most parsimonious one (a form with a parameter per
+            # storey fits a little closer than a soft first storey, at a higher information criterion)
+            best = criterion if name in ALTERNATIVES and n_eff else misfit
+            (fit, specs), was_polished = min(fits, key=best)
             yield name, (fit, len(specs), was_polished)
         elif outs:
             yield name, outs[0][0]

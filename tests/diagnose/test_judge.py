@@ -74,3 +74,41 @@ def test_every_finished_fit_task_is_reported_as_progress():
                      "  soil-structure-interaction, form 2 of 2: short fit NE 0.0421 (3 of 12 forms screened)",
                      "  soil-structure-interaction, form 2 of 2: polished with the base parameters, NE 0.0421",
                      "  inelastic-storey, form 1 of 3: cannot run (ValueError: bad)"]
+
+
+def _stubbed_fit_all(monkeypatch, results):
+    """``_fit_all`` in this process (jobs 1) with each form's fit made up: results {(name, form): (ne, p)}."""
+    from seispound.diagnose import api
+
+    def starts(name, variant, data, alt, *common):
+        if (name, variant) not in results:
+            return "not in this test"  # a form that cannot run is left out
+        ne, p = results[(name, variant)]
+        return {}, [f"x.{name}.{variant}.{j}=1:2" for j in range(p)], [{"form": (name, variant)}]
+
+    def short(aug, specs, start, *common):
+        fit = _fit(results[start["form"]][0])
+        fit.model_text = fit.ne_mean_after
+        return fit, specs, start
+
+    monkeypatch.setattr(api, "_starts", starts)
+    monkeypatch.setattr(api, "_short", short)
+    monkeypatch.setattr(api, "_polish", lambda texts, *a: _fit(min(texts)))  # polishing moves nothing here
+    names = sorted({n for n, _ in results})
+    return dict(api._fit_all(names, {}, None, [], [], 400, 1, ne_base=0.0, n_eff=N_EFF))
+
+
+def test_wrong_parameters_keep_their_most_parsimonious_form_and_a_physics_its_closest(monkeypatch):
+    from seispound.diagnose.hypotheses import ALTERNATIVES, HYPOTHESES
+
+    physics = next(iter(HYPOTHESES))
+    alt = next(iter(ALTERNATIVES))
+    # every storey free fits 2 % closer than a soft first storey, with 18 parameters more: BIC worse by
+    # 18 ln(1000) - 1000 ln(1.02^2) = 124.3 - 39.6; a physics's richer form fits 2 % closer with 2 more: kept
+    out = _stubbed_fit_all(monkeypatch, {(alt, 0): (0.0102, 2), (alt, 2): (0.0100, 20),
+                                         (physics, 0): (0.0102, 2), (physics, 1): (0.0100, 4)})
+    assert out[alt][1] == 2 and out[alt][0].ne_mean_after == 0.0102
+    assert out[physics][1] == 4 and out[physics][0].ne_mean_after == 0.0100
+    # the same closer fit with few parameters more pays for them: BIC better by 39.6 - 2 ln(1000) = 25.8
+    out = _stubbed_fit_all(monkeypatch, {(alt, 0): (0.0102, 2), (alt, 2): (0.0100, 4)})
+    assert out[alt][1] == 4

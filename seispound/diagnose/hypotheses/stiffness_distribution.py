@@ -1,7 +1,10 @@
 """Wrong parameters beyond what recalibration spans: the storeys' stiffness distributed otherwise over the height.
 
-Two forms: the first and the top storey's stiffness set free of the building's factor (a soft first storey, a
-soft or stiff top), and a smooth (log-quadratic) taper over the height (``storey_stiffness_taper``).
+Three forms: the first and the top storey's stiffness set free of the building's factor (a soft first storey, a
+soft or stiff top), a smooth (log-quadratic) taper over the height (``storey_stiffness_taper``), and every
+storey's stiffness on its own (any distribution over the height: the storey stiffnesses are a shear building's
+parameters, as in model updating).  The search judges the alternative by its form with the best information
+criterion, so that the most parsimonious wrong-parameter explanation is the one a physics must beat.
 
 Fitted beside the physics (an alternative, not a physics), so that a model whose parameters are wrong in a
 way a factor cannot fix is not mistaken for missing physics (a soft first storey is a sway spring under the
@@ -50,6 +53,24 @@ def _stiffness_taper(d):
     return specs, null
 
 
+def _every_storey(d):
+    # any distribution over the height: storeys 2..N of every building of two or more storeys fitted on their own,
+    # over a factor of 4 either way; the first storey follows the building's stiffness factor (fitted with the
+    # base parameters), so that no direction of the fit is redundant
+    specs, null = [], {}
+    for b in d["building"]:
+        if not isinstance(b["storey_stiffness"], list) and int(b.get("floors", 1)) >= 2:
+            b["storey_stiffness"] = [b["storey_stiffness"]] * int(b["floors"])
+        k = b["storey_stiffness"]
+        if not isinstance(k, list) or len(k) < 2:
+            continue
+        for j in range(2, len(k) + 1):
+            path = f"building.{b['name']}.storey_stiffness.{j}"
+            specs.append(f"{path}={0.25 * k[j - 1]!r}:{4.0 * k[j - 1]!r}")
+            null[path] = k[j - 1]
+    return specs, null
+
+
 def _why_not(d):
     multi = [b for b in d.get("building", []) if int(b.get("floors", 1)) >= 2 or
              (isinstance(b.get("storey_stiffness"), list) and len(b["storey_stiffness"]) >= 2)]
@@ -59,4 +80,4 @@ def _why_not(d):
 HYPOTHESIS = Hypothesis(
     "stiffness-distribution", "the storeys' stiffness distributed otherwise over the height than modelled",
     "a building's modes off in ratio to one another, which one stiffness factor cannot set right",
-    forms=(_stiffness_profile, _stiffness_taper), why_not=_why_not, alternative=True)
+    forms=(_stiffness_profile, _stiffness_taper, _every_storey), why_not=_why_not, alternative=True)

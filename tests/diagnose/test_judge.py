@@ -112,3 +112,37 @@ def test_wrong_parameters_keep_their_most_parsimonious_form_and_a_physics_its_cl
     # the same closer fit with few parameters more pays for them: BIC better by 39.6 - 2 ln(1000) = 25.8
     out = _stubbed_fit_all(monkeypatch, {(alt, 0): (0.0102, 2), (alt, 2): (0.0100, 4)})
     assert out[alt][1] == 4
+
+
+def test_the_alternative_is_polished_jointly_from_each_set_of_base_values(monkeypatch):
+    # own fits: nominal base values 0.05, recalibrated 0.04; joint fits from there: 0.011 and 0.030. A physics
+    # goes on jointly from its better own fit only (0.030); the alternative from both (0.011)
+    import dataclasses
+
+    from seispound.calibrate import fit as fit_module
+    from seispound.calibrate import observe
+    from seispound.diagnose.api import _polish
+
+    @dataclasses.dataclass
+    class Param:
+        path: str
+        start: float = 1.0
+        lo: float = 0.5
+        hi: float = 2.0
+
+    outcome = {("nominal", 1): 0.05, ("recal", 1): 0.04, ("nominal", 3): 0.011, ("recal", 3): 0.030}
+    budgets = []
+
+    def calibrate(obs, params, max_evaluations, **kw):
+        budgets.append(max_evaluations)
+        f = _fit(outcome[(obs.data["tag"], len(params))])
+        f.model_text = f'tag = "{obs.data["tag"]}"'
+        return f
+
+    monkeypatch.setattr(fit_module, "calibrate_observer", calibrate)
+    monkeypatch.setattr(fit_module, "parse_fit", lambda specs, data: [Param(s) for s in specs])
+    monkeypatch.setattr(observe, "Observer", lambda data, *a: SimpleNamespace(data=data))
+    texts, specs, both = ['tag = "nominal"', 'tag = "recal"'], ["own"], ["base1", "base2", "own"]
+    assert _polish(texts, specs, both, None, [], [], 10_000).ne_mean_after == 0.030
+    assert budgets == [120, 120, 240]  # 60 (p + 1) each stage
+    assert _polish(texts, specs, both, None, [], [], 10_000, every_base=True).ne_mean_after == 0.011

@@ -596,8 +596,10 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
         fit, specs = final[form]
         both = _compatible(joint, specs) + specs  # its own last: a storey's stiffness set after the list's factor
         texts = [f.model_text for f in origins[form].values()]  # the best short fit from each set of base values
-        # the alternative, the explanation a physics must beat, is fitted jointly from each set of base values
-        # (its simulations cost the base row's); a physics from the better of its own fits
+        # the alternative, the explanation a physics must beat, is fitted jointly from each set of base values,
+        # its budget uncapped; a physics from the better of its own fits.  (Uncapped on the grounds that its
+        # simulations cost the base row's: so in the first round, not on top of a first physics, where held-out
+        # cases took up to 1986 s: docs/diagnose_outside_heldout_2917.md)
         alternative = form[0] in ALTERNATIVES
         budget = POLISH * (len(both) + 1) if alternative else min(POLISH * (len(both) + 1), max_evaluations)
         run(("polish", form), _polish, texts, specs, both, *common, budget, alternative)
@@ -796,8 +798,8 @@ def _polish(texts, specs, both, base, chans, trial_list, max_evaluations, every_
     together with the ones already fitted (``both`` holds all), from there: each stage has its own budget
     and starts where the last ended, so the result is never worse than the screened fit.  Both bases are
     polished because the recalibrated values compensate for the missing physics (a start that fits
-    better at first may end worse).  With ``every_base`` (the wrong-parameter alternative, whose
-    simulations cost the base row's) the joint stage runs from each of them, and its budget is
+    better at first may end worse).  With ``every_base`` (the wrong-parameter alternative) the joint
+    stage runs from each of them, and its budget is
     ``max_evaluations`` as given.  A joint fit that cannot run leaves the first stage's."""
     import tomllib
     from dataclasses import replace
@@ -806,7 +808,7 @@ def _polish(texts, specs, both, base, chans, trial_list, max_evaluations, every_
     from ..calibrate.observe import Observer
 
     def fit(data, params):
-        budget = min(POLISH * (len(params) + 1), max_evaluations)  # the joint stage's: max_evaluations
+        budget = min(POLISH * (len(params) + 1), max_evaluations)  # each stage's, at most max_evaluations
         return calibrate_observer(Observer(data, base, chans, trial_list), params, progress=False,
                                   max_evaluations=budget, tolerance=TOLERANCE, step_fraction=STEP)
 

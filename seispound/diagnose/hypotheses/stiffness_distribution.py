@@ -16,15 +16,20 @@ from __future__ import annotations
 from ._hypothesis import Hypothesis
 
 
+def _storey_list(b) -> list | float:
+    """The building's storey stiffnesses as a list, one value per storey where ``floors`` gives one for all."""
+    if not isinstance(b["storey_stiffness"], list) and int(b.get("floors", 1)) >= 2:
+        b["storey_stiffness"] = [b["storey_stiffness"]] * int(b["floors"])  # one value for every storey
+    return b["storey_stiffness"]
+
+
 def _stiffness_profile(d):
     # the storeys' stiffness distributed otherwise over the height than modelled (a soft first storey, a taper):
     # the first and the top storey's stiffness of every building of two or more storeys fitted on their own,
     # over a factor of 4 either way, while the building's stiffness factor scales the rest
     specs, null = [], {}
     for b in d["building"]:
-        if not isinstance(b["storey_stiffness"], list) and int(b.get("floors", 1)) >= 2:
-            b["storey_stiffness"] = [b["storey_stiffness"]] * int(b["floors"])  # one value for every storey
-        k = b["storey_stiffness"]
+        k = _storey_list(b)
         if not isinstance(k, list) or len(k) < 2:
             continue
         for j in (1, len(k)):
@@ -59,9 +64,7 @@ def _every_storey(d):
     # base parameters), so that no direction of the fit is redundant
     specs, null = [], {}
     for b in d["building"]:
-        if not isinstance(b["storey_stiffness"], list) and int(b.get("floors", 1)) >= 2:
-            b["storey_stiffness"] = [b["storey_stiffness"]] * int(b["floors"])
-        k = b["storey_stiffness"]
+        k = _storey_list(b)
         if not isinstance(k, list) or len(k) < 2:
             continue
         for j in range(2, len(k) + 1):

@@ -596,12 +596,14 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
         fit, specs = final[form]
         both = _compatible(joint, specs) + specs  # its own last: a storey's stiffness set after the list's factor
         texts = [f.model_text for f in origins[form].values()]  # the best short fit from each set of base values
-        # the alternative, the explanation a physics must beat, is fitted jointly from each set of base values,
-        # its budget uncapped; a physics from the better of its own fits.  (Uncapped on the grounds that its
-        # simulations cost the base row's: so in the first round, not on top of a first physics, where held-out
-        # cases took up to 1986 s: docs/diagnose_outside_heldout_2917.md)
+        # the alternative, the explanation a physics must beat, is fitted jointly from each set of base values;
+        # a physics from the better of its own fits.  In the first round (``alt`` given) the alternative's budget
+        # is uncapped, since its simulations cost the base row's; on top of a first physics each costs that
+        # physics's (rods, yielding storeys), so it keeps the cap (uncapped there, held-out cases took up to
+        # 1986 s: docs/diagnose_outside_heldout_2917.md)
         alternative = form[0] in ALTERNATIVES
-        budget = POLISH * (len(both) + 1) if alternative else min(POLISH * (len(both) + 1), max_evaluations)
+        uncapped = alternative and bool(alt)
+        budget = POLISH * (len(both) + 1) if uncapped else min(POLISH * (len(both) + 1), max_evaluations)
         run(("polish", form), _polish, texts, specs, both, *common, budget, alternative)
     try:
         for form in forms:

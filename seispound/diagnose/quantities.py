@@ -218,7 +218,10 @@ def _yielding(fit, data):
                               defining=True))
     for key, what in (("post_yield_ratio", "post-yield stiffness ratio"), ("n", "Bouc-Wen exponent"),
                       ("strength_degradation", "strength degradation rate delta_nu (Baber & Wen)"),
-                      ("stiffness_degradation", "stiffness degradation rate delta_eta (Baber & Wen)")):
+                      ("stiffness_degradation", "stiffness degradation rate delta_eta (Baber & Wen)"),
+                      ("pinching", "pinching severity zeta_s (Baber & Noori)"),
+                      ("pinching_rate", "pinching growth rate p with the hysteretic energy (Foliente)"),
+                      ("pinching_width", "pinching width over the yield drift psi (Foliente)")):
         path = f"building.*.storey_law.{key}"
         if path in fit.parameters:
             out.append(_delta(fit, what, "-", lambda x, p=path: x[p], [path]))

@@ -53,7 +53,7 @@ N_STATE = 3
 
 # codes of history-carrying laws (beyond the contact codes, which stay below 20) and their parameter columns
 from ..storey.codes import (B_ALPHA, B_FY, B_K, BILINEAR, BOUC_WEN, BW_ALPHA, BW_BETA,  # noqa: E402, F401
-                            BW_DETA, BW_DNU, BW_DY, BW_GAMMA, BW_K, BW_N)
+                            BW_DETA, BW_DNU, BW_DY, BW_GAMMA, BW_K, BW_N, BW_PINCH, BW_PINCH_RATE, BW_PINCH_WIDTH)
 # a Bouc-Wen trial integrates z over sub-increments of at most this fraction of dy (trapezoidal rule each)
 BW_SUBINCREMENT = 0.02
 BW_MAX_SUB = 256
@@ -122,16 +122,35 @@ def _bouc_wen_power(z, dy, n):
 
 
 @njit(cache=True, inline="always")
-def _bouc_wen_phi(z, d, xn, dxn, beta, gamma, nu, eta):
+def _bouc_wen_phi(z, d, xn, dxn, beta, gamma, nu, eta, pinch, width):
     """dz/d(delta) of the Bouc-Wen model with A = 1 and its derivative in z, for a step of sign d.
 
-    Phi = (1 - nu |z/dy|^n (beta sgn(d z) + gamma)) / eta (Wen 1976, J. Eng. Mech. Div.
+    Phi = h(z) (1 - nu |z/dy|^n (beta sgn(d z) + gamma)) / eta (Wen 1976, J. Eng. Mech. Div.
     102(2) 249-263, Eq. 2 divided by d(delta)/dt: the model is rate independent; nu and eta,
     1 without degradation, are Baber & Wen's (1981) strength and stiffness degradation factors);
-    xn, dxn: |z/dy|^n and its derivative (``_bouc_wen_power``).
+    xn, dxn: |z/dy|^n and its derivative (``_bouc_wen_power``).  h(z) = 1 - zeta_1 exp(-(z / w)^2)
+    is Baber & Noori's (1985, J. Eng. Mech. 111(8) 1010-1026) pinching function in Foliente's (1995,
+    J. Struct. Eng. 121(6) 1013-1022) form with q = 0 (the pinch centred at z = 0); pinch = zeta_1 [-],
+    width = w [m]; pinch 0: no pinching.
     """
     c = beta * (1.0 if d * z >= 0.0 else -1.0) + gamma
-    return (1.0 - nu * xn * c) / eta, -nu * c * dxn / eta
+    phi, dphi = (1.0 - nu * xn * c) / eta, -nu * c * dxn / eta
+    if pinch == 0.0:
+        return phi, dphi
+    g = pinch * np.exp(-(z / width) ** 2)
+    return (1.0 - g) * phi, (1.0 - g) * dphi + 2.0 * g * z / (width * width) * phi
+
+
+@njit(cache=True, inline="always")
+def _pinching(par, q, eps):
+    """(zeta_1 [-], w [m]) of Bouc-Wen storey q at energy measure eps: zeta_1 = zeta_s (1 - exp(-p eps))
+    grows with the dissipated energy (Foliente 1995, Eq. 10), w = psi dy a constant width (Foliente's
+    (psi + delta_psi eps)(lambda + zeta_1) with delta_psi = 0 and lambda + zeta_1 taken into the fitted
+    psi: a simplification made here)."""
+    zs = par[q, BW_PINCH]
+    if zs == 0.0:
+        return 0.0, 1.0
+    return zs * (1.0 - np.exp(-par[q, BW_PINCH_RATE] * max(eps, 0.0))), par[q, BW_PINCH_WIDTH] * par[q, BW_DY]
 
 
 @njit(cache=True)
@@ -166,7 +185,8 @@ def bouc_wen_advance(par, q, z, eps, total):
     Degradation (Baber & Wen 1981, J. Eng. Mech. Div. 107(6) 1069-1087, Eqs. 5-6):
     nu = 1 + delta_nu eps and eta = 1 + delta_eta eps grow with the hysteretic
     energy measure eps = integral of z d(delta) / dy^2 (Baber & Wen's integral of
-    z u' dt, made dimensionless by dy^2 here).  They are held at their values at
+    z u' dt, made dimensionless by dy^2 here), and so does the pinching's severity
+    (``_pinching``).  They are held at their values at
     the start of each sub-increment, eps advanced by the trapezoidal rule after
     it; the tangent leaves out eps's own dependence on the step (a first-order
     term of one sub-increment), so with degradation Newton converges linearly.
@@ -185,12 +205,13 @@ def bouc_wen_advance(par, q, z, eps, total):
     for _ in range(n_sub):
         nu = 1.0 + dnu * eps
         eta = 1.0 + deta * eps
-        phi0, dphi0 = _bouc_wen_phi(z, d, xn, dxn, beta, gamma, nu, eta)
+        pinch, width = _pinching(par, q, eps)
+        phi0, dphi0 = _bouc_wen_phi(z, d, xn, dxn, beta, gamma, nu, eta, pinch, width)
         z1 = z + d * phi0 * (1.0 + 0.5 * d * dphi0)  # second-order Taylor start, closer for Newton
         phi1, dphi1 = phi0, dphi0
         for _ in range(50):
             xn, dxn = _bouc_wen_power(z1, dy, n)
-            phi1, dphi1 = _bouc_wen_phi(z1, d, xn, dxn, beta, gamma, nu, eta)
+            phi1, dphi1 = _bouc_wen_phi(z1, d, xn, dxn, beta, gamma, nu, eta, pinch, width)
             step = (z1 - z - 0.5 * d * (phi0 + phi1)) / (1.0 - 0.5 * d * dphi1)
             z1 -= step
             if abs(step) <= 1e-15 * dy:
@@ -204,11 +225,12 @@ def bouc_wen_advance(par, q, z, eps, total):
 @njit(cache=True, inline="always")
 def bouc_wen_slope(par, q, z, eps, d):
     """dz/d(delta) [-] of Bouc-Wen storey q at z [m] and energy measure eps, moving in the direction of sign d
-    (``_bouc_wen_phi``: Wen 1976 with Baber & Wen's 1981 degradation)."""
+    (``_bouc_wen_phi``: Wen 1976 with Baber & Wen's 1981 degradation and Baber & Noori's 1985 pinching)."""
     dy = par[q, BW_DY]
     xn, dxn = _bouc_wen_power(z, dy, par[q, BW_N])
+    pinch, width = _pinching(par, q, eps)
     return _bouc_wen_phi(z, d, xn, dxn, par[q, BW_BETA], par[q, BW_GAMMA], 1.0 + par[q, BW_DNU] * eps,
-                         1.0 + par[q, BW_DETA] * eps)[0]
+                         1.0 + par[q, BW_DETA] * eps, pinch, width)[0]
 
 
 @njit(cache=True)
@@ -287,7 +309,10 @@ def material_energy(code, par, state, q, delta):
     linear and hysteretic springs in parallel: an unloading hysteretic spring
     follows dz/d(delta) = 1 / eta, so releasing z returns (1 - alpha) k eta z^2 / 2,
     derived here; eta = 1 without degradation; what the law absorbed beyond
-    it is dissipated).
+    it is dissipated).  With pinching the unloading slope is h(z) / eta, and
+    (1 - alpha) k eta int_0^z s / h(s) ds = (1 - alpha) k eta (w^2 / 2) (U + ln(1 - zeta_1 e^-U)
+    - ln(1 - zeta_1)), U = z^2 / w^2 (the substitution u = s^2 / w^2 and
+    int du / (1 - zeta_1 e^-u) = ln(e^u - zeta_1); derived here), which is eta z^2 / 2 at zeta_1 = 0.
     """
     if code == BILINEAR:
         k = par[q, B_K]
@@ -295,8 +320,13 @@ def material_energy(code, par, state, q, delta):
     if code == BOUC_WEN:
         k = par[q, BW_K]
         eta = 1.0 + par[q, BW_DETA] * state[q, ST_EPS]
-        return (0.5 * par[q, BW_ALPHA] * k * delta * delta
-                + 0.5 * (1.0 - par[q, BW_ALPHA]) * k * eta * state[q, ST_Z] ** 2)
+        z = state[q, ST_Z]
+        pinch, width = _pinching(par, q, state[q, ST_EPS])
+        z2 = z * z
+        if pinch > 0.0:
+            u = z2 / (width * width)
+            z2 = width * width * (u + np.log1p(-pinch * np.exp(-u)) - np.log1p(-pinch))
+        return 0.5 * par[q, BW_ALPHA] * k * delta * delta + 0.5 * (1.0 - par[q, BW_ALPHA]) * k * eta * z2
     return 0.0
 
 

@@ -39,7 +39,7 @@ _SOIL = {"shear_wave_velocity", "density", "poisson", "radiation"}
 _SOIL_REQUIRED = {"shear_wave_velocity", "density", "poisson"}
 _FOOTING = {"width", "length", "radius"}
 _STOREY_LAW = {"kind", "yield_drift", "yield_force", "post_yield_ratio", "n", "beta", "gamma", "strength_degradation",
-               "stiffness_degradation"}
+               "stiffness_degradation", "pinching", "pinching_rate", "pinching_width"}
 _VARIANT = {"delay", "lowpass", "lowpass_order"}
 _DAMPING = {"kind", "ratio", "modes"}
 _LAW_KEYS = {"law", "stiffness", "restitution", "tension", "damping_constant", "exponent"}

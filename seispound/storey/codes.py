@@ -12,8 +12,11 @@ BOUC_WEN = 21  # smooth hysteresis (Bouc 1967, Wen 1976)
 # parameter columns of BILINEAR: initial stiffness k [N/m], yield force fy [N], post-yield ratio alpha [-]
 B_K, B_FY, B_ALPHA = 0, 1, 2
 # parameter columns of BOUC_WEN: k [N/m], yield deformation dy [m], alpha [-], exponent n, beta, gamma [-],
-# and the degradation rates of strength (delta_nu) and stiffness (delta_eta) with the hysteretic energy [-]
+# the degradation rates of strength (delta_nu) and stiffness (delta_eta) with the hysteretic energy [-],
+# and the pinching's severity zeta_s [-], its growth rate p with the hysteretic energy [-] and its width over dy
+# psi [-] (Baber & Noori 1985; Foliente 1995)
 BW_K, BW_DY, BW_ALPHA, BW_N, BW_BETA, BW_GAMMA, BW_DNU, BW_DETA = 0, 1, 2, 3, 4, 5, 6, 7
-N_STOREY_PAR = 8
+BW_PINCH, BW_PINCH_RATE, BW_PINCH_WIDTH = 8, 9, 10
+N_STOREY_PAR = 11
 
 NAMES = {"elastic": LINEAR, "bilinear": BILINEAR, "bouc-wen": BOUC_WEN}

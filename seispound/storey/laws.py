@@ -47,6 +47,14 @@ class StoreyLaw:
         no degradation); strength and stiffness degrade as nu = 1 + delta_nu eps,
         eta = 1 + delta_eta eps with the hysteretic energy eps = integral of z
         d(drift) / dy^2 (about 4 mu per full cycle at ductility mu).
+    pinching, pinching_rate, pinching_width : float, [-]
+        Bouc-Wen only: the loop pinches near zero force as in Baber & Noori (1985,
+        J. Eng. Mech. 111(8), 1010-1026) and Foliente (1995, J. Struct. Eng. 121(6),
+        1013-1022), dz/dt multiplied by h(z) = 1 - zeta_1 exp(-(z / (psi dy))^2) with
+        zeta_1 = zeta_s (1 - exp(-p eps)): ``pinching`` zeta_s in [0, 1) (default 0: none),
+        ``pinching_rate`` p > 0 (default 1; the pinch grows with the energy eps above),
+        ``pinching_width`` psi > 0 (default 0.2).  Foliente's offset q is 0 and his width
+        a constant here.
     """
 
     kind: str = "elastic"
@@ -58,6 +66,9 @@ class StoreyLaw:
     gamma: float = 0.5
     strength_degradation: float = 0.0
     stiffness_degradation: float = 0.0
+    pinching: float = 0.0
+    pinching_rate: float = 1.0
+    pinching_width: float = 0.2
 
     @property
     def code(self) -> int:
@@ -105,6 +116,15 @@ class StoreyLaw:
                 raise InputError(f"must be a finite number >= 0, got {v!r}", key=f"{key}.{f}")
             if v and self.kind != "bouc-wen":
                 raise InputError("degradation is a Bouc-Wen storey's (Baber & Wen 1981)", key=f"{key}.{f}")
+        for f, lo, hi in (("pinching", 0.0, 1.0), ("pinching_rate", 0.0, math.inf),
+                          ("pinching_width", 0.0, math.inf)):
+            v = getattr(self, f)
+            ok = isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+            if not ok or not (lo <= v < hi if f == "pinching" else lo < v < hi):
+                raise InputError(f"must be a finite number in {'[0, 1)' if f == 'pinching' else '(0, inf)'}, "
+                                 f"got {v!r}", key=f"{key}.{f}")
+        if self.pinching and self.kind != "bouc-wen":
+            raise InputError("pinching is a Bouc-Wen storey's (Baber & Noori 1985)", key=f"{key}.pinching")
 
     def _per_storey(self, field, n_storeys, key, positive=False) -> np.ndarray:
         arr = number_array(getattr(self, field), f"{key}.{field}")
@@ -137,4 +157,6 @@ class StoreyLaw:
             par[:, C.BW_K], par[:, C.BW_DY], par[:, C.BW_ALPHA] = k, dy, alpha
             par[:, C.BW_N], par[:, C.BW_BETA], par[:, C.BW_GAMMA] = self.n, self.beta, self.gamma
             par[:, C.BW_DNU], par[:, C.BW_DETA] = self.strength_degradation, self.stiffness_degradation
+            par[:, C.BW_PINCH], par[:, C.BW_PINCH_RATE] = self.pinching, self.pinching_rate
+            par[:, C.BW_PINCH_WIDTH] = self.pinching_width
         return codes, par

@@ -10,6 +10,8 @@ from __future__ import annotations
 import math
 from types import SimpleNamespace
 
+import pytest
+
 from seispound.diagnose.api import BIC_MARGIN, _base_specs, _judge, _Step
 
 N = N_EFF = 1000
@@ -112,6 +114,37 @@ def test_wrong_parameters_keep_their_most_parsimonious_form_and_a_physics_its_cl
     # the same closer fit with few parameters more pays for them: BIC better by 39.6 - 2 ln(1000) = 25.8
     out = _stubbed_fit_all(monkeypatch, {(alt, 0): (0.0102, 2), (alt, 2): (0.0100, 4)})
     assert out[alt][1] == 4
+
+
+@pytest.mark.parametrize("alt, expected", [({"gap.1.size": 0.02}, 60 * 21), (None, 400)],
+                         ids=["first-round", "on-top-of-a-physics"])
+def test_the_alternatives_budget_is_uncapped_in_the_first_round_only(monkeypatch, alt, expected):
+    # 20 parameters: 60 (p + 1) = 1260 simulations uncapped, against max_evaluations 400; a physics always capped
+    from seispound.diagnose import api
+    from seispound.diagnose.hypotheses import ALTERNATIVES, HYPOTHESES
+
+    physics, alternative = next(iter(HYPOTHESES)), next(iter(ALTERNATIVES))
+    budgets = {}
+
+    def starts(name, variant, *a):
+        if variant:
+            return "one form each"
+        return {}, [f"x.{name}.{j}=1:2" for j in range(20)], [{"form": name}]
+
+    def polish(texts, specs, both, base, chans, trial_list, budget, every_base=False):
+        budgets[specs[0].split(".")[1]] = budget
+        return _fit(0.01)
+
+    def short(aug, specs, start, *common):
+        fit = _fit(0.02)
+        fit.model_text = ""
+        return fit, specs, start
+
+    monkeypatch.setattr(api, "_starts", starts)
+    monkeypatch.setattr(api, "_short", short)
+    monkeypatch.setattr(api, "_polish", polish)
+    dict(api._fit_all([physics, alternative], {}, None, [], [], 400, 1, ne_base=1.0, alt=alt, n_eff=N_EFF))
+    assert budgets == {physics: 400, alternative: expected}
 
 
 def test_the_alternative_is_polished_jointly_from_each_set_of_base_values(monkeypatch):

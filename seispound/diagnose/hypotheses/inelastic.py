@@ -1,4 +1,4 @@
-"""Inelastic storeys: bilinear, Bouc-Wen with a fitted exponent, and degrading Bouc-Wen hysteresis."""
+"""Inelastic storeys: bilinear, Bouc-Wen with a fitted exponent, and degrading, pinching Bouc-Wen hysteresis."""
 
 from __future__ import annotations
 
@@ -30,15 +30,22 @@ def _bilinear(d):
 
 
 def _degrading(d):
-    # smooth hysteresis whose strength and stiffness degrade with the energy it dissipates (Baber & Wen 1981):
-    # a yield drift per building; post-yield ratio, exponent and the two degradation rates one value for the row
+    # smooth hysteresis whose strength and stiffness degrade with the energy it dissipates (Baber & Wen 1981) and
+    # whose loops pinch near zero force as that energy grows (Baber & Noori 1985, Foliente 1995): a yield drift
+    # per building; post-yield ratio, exponent, the two degradation rates and the pinch's severity, growth rate
+    # and width one value for the row (null: no degradation, no pinch)
     specs = ["building.*.storey_law.post_yield_ratio=0.005:0.5", "building.*.storey_law.n=1:20",
-             "building.*.storey_law.strength_degradation=0:0.2", "building.*.storey_law.stiffness_degradation=0:0.2"]
+             "building.*.storey_law.strength_degradation=0:0.2", "building.*.storey_law.stiffness_degradation=0:0.2",
+             "building.*.storey_law.pinching=0:0.95", "building.*.storey_law.pinching_rate=0.05:5",
+             "building.*.storey_law.pinching_width=0.05:1"]
     null = {"building.*.storey_law.post_yield_ratio": 0.05, "building.*.storey_law.n": 2.0,
-            "building.*.storey_law.strength_degradation": 0.0, "building.*.storey_law.stiffness_degradation": 0.0}
+            "building.*.storey_law.strength_degradation": 0.0, "building.*.storey_law.stiffness_degradation": 0.0,
+            "building.*.storey_law.pinching": 0.0, "building.*.storey_law.pinching_rate": 1.0,
+            "building.*.storey_law.pinching_width": 0.2}
     for b in d["building"]:
         b["storey_law"] = {"kind": "bouc-wen", "yield_drift": 0.02, "post_yield_ratio": 0.05, "n": 2.0,
-                           "beta": 0.5, "gamma": 0.5, "strength_degradation": 0.0, "stiffness_degradation": 0.0}
+                           "beta": 0.5, "gamma": 0.5, "strength_degradation": 0.0, "stiffness_degradation": 0.0,
+                           "pinching": 0.0, "pinching_rate": 1.0, "pinching_width": 0.2}
         specs.append(f"building.{b['name']}.storey_law.yield_drift=0.0005:5")
         null[f"building.{b['name']}.storey_law.yield_drift"] = 5.0
     return specs, null

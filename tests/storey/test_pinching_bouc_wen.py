@@ -14,18 +14,17 @@ from scipy.integrate import quad, solve_ivp
 
 from seispound.contact.codes import N_PAR
 from seispound.errors import InputError
-from seispound.integrate._material import N_STATE, material_commit, material_energy, material_trial
+from seispound.integrate._material import material_energy
 from seispound.storey import codes as C
 from seispound.storey.laws import StoreyLaw
+from tests.storey._protocol import growing_drift, walk
 
 K, DY, ALPHA, N_EXP, BETA, GAMMA = 2e8, 0.01, 0.05, 2.0, 0.5, 0.5
 PINCH, RATE, WIDTH = 0.8, 0.5, 0.3
 
 
 def _drift(t):
-    amp = 4 * DY * np.minimum(t / 3.0, 1.0)
-    return amp * np.sin(2 * np.pi * t), 4 * DY / 3.0 * (t < 3.0) * np.sin(2 * np.pi * t) \
-        + amp * 2 * np.pi * np.cos(2 * np.pi * t)
+    return growing_drift(t, DY)
 
 
 def _twin(t_eval, pinch):
@@ -48,12 +47,7 @@ def _package(t_eval, pinch):
                     pinching=pinch, pinching_rate=RATE, pinching_width=WIDTH)
     law.validate(1)
     par[:, :C.N_STOREY_PAR] = law.kernel_rows([K], C.N_STOREY_PAR)[1]
-    committed, trial = np.zeros((1, N_STATE)), np.zeros((1, N_STATE))
-    d, _ = _drift(t_eval)
-    out = np.zeros(t_eval.size)
-    for i, x in enumerate(d):
-        out[i] = material_trial(C.BOUC_WEN, par, committed, trial, 0, x, 0.0)[0]
-        material_commit(committed, trial, 0)
+    out, committed = walk(par, _drift(t_eval)[0])
     return out, committed, par
 
 

@@ -15,8 +15,8 @@ It is numba's CPU dispatcher (``numba.core.registry.CPUDispatcher``, the class
 Its on-disk cache is keyed by every source the compiled code depends on, not only its own
 file: numba checks only the file that defines a function (``numba.core.caching``), while the
 integrator's kernels inline laws from other modules and freeze constants imported from others,
-so that an edit of ``_material.py`` alone left ``_general.py``'s cached kernel running the old
-law (found when a new storey-law parameter changed nothing in a simulation).  Each cached
+so that an edit of ``_material.py`` alone would leave ``_general.py``'s cached kernel running the
+old law.  Each cached
 function's stamp therefore carries the hash of the sources of every module in the package that a
 compiled module imports, transitively (``package_stamp``).
 """

@@ -343,10 +343,42 @@ def write_case(folder, form, seed, weak=False, duration=20.0, search=True):
 
     t0 = time.perf_counter()
     family = FORMS[form][0]
-    key = write_impact_case(folder, form, seed, weak) if family == "impact" else _write_case(folder, form, seed, weak,
-                                                                                              duration, search)
+    refused = []
+    for attempt in range(MAX_DRAWS):
+        key = write_impact_case(folder, form, seed, weak) if family == "impact" else _write_case(
+            folder, form, seed, weak, duration, search)
+        why = invisible(key)
+        if why is None or attempt == MAX_DRAWS - 1:
+            break
+        refused.append({"seed": seed, "why": why})
+        seed = int(np.random.default_rng(seed).integers(1 << 30))  # a fresh draw of the same form
+    if refused:
+        key["refused_draws"] = refused
+    if why is not None:
+        key["invisible"] = why
     key["generator_seconds"] = round(time.perf_counter() - t0, 1)
     return key
+
+
+NOISE = 0.01  # the instruments' noise: 1 % of each channel's RMS
+VISIBLE = 2 * NOISE  # an effect case must depart from its reference by this NE, or it is drawn again
+MAX_DRAWS = 5
+NEEDS_IMPACTS = ("velocity-dependent-restitution", "distributed-mass", "impact")
+
+
+def invisible(key) -> str | None:
+    """Why a drawn effect case conceals nothing the data can show, or None: its effect NE (recording against
+    the row without the effect, noise-free) under VISIBLE, or no impact where the effect acts only in impacts
+    (a restitution law, a floor's axial modes).  Such a case tests nothing: a method that names nothing is
+    right by the data and wrong by the key.  Controls and instrument faults are never refused."""
+    labels = FORMS[key["form"]][1]
+    if key["family"] in ("control", "instrument-fault"):
+        return None
+    if key["impacts"] == 0 and any(lab in NEEDS_IMPACTS for lab in labels + [key["family"]]):
+        return "no impact, and the effect acts only in impacts"
+    if key["effect_ne"] < VISIBLE:
+        return f"effect NE {key['effect_ne']:.4f} < {VISIBLE}"
+    return None
 
 
 EFFECT_FAMILIES = ("distributed-mass", "soil-structure-interaction", "inelastic-storey", "velocity-dependent-restitution",
@@ -439,7 +471,7 @@ def _write_case(folder, form, seed, weak, duration, search=True):
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     nrng = np.random.default_rng(seed + 7)
-    noisy = lambda x: x + 0.01 * np.sqrt(np.mean(x * x)) * nrng.standard_normal(x.size)
+    noisy = lambda x: x + NOISE * np.sqrt(np.mean(x * x)) * nrng.standard_normal(x.size)
     ag_rec = noisy(ag)
     obspy.Stream([_trace("XX.FF.00.HNX", ag_rec, 0.005)]).write(str(folder / "ground_motion.mseed"), format="MSEED",
                                                                  encoding="FLOAT64")
@@ -492,7 +524,7 @@ def _instrument(rng, row, res, t, t_ag, ag_rec):
     """Channels like a real deployment: the free field; per building either every floor (and the roof
     displacement) or only base, mid-height and roof (sparse), drawn; 1 % noise."""
     nrng = np.random.default_rng(int(rng.integers(1 << 30)))
-    noisy = lambda x: x + 0.01 * np.sqrt(np.mean(x * x)) * nrng.standard_normal(x.size)
+    noisy = lambda x: x + NOISE * np.sqrt(np.mean(x * x)) * nrng.standard_normal(x.size)
     chans = [{"id": "XX.FF.00.HNX", "quantity": "acceleration", "building": row.buildings[0].name, "floor": 0}]
     data = [np.interp(t, t_ag, ag_rec)]
     clean = [np.interp(t, t_ag, ag_rec)]
@@ -595,7 +627,7 @@ def write_impact_case(folder, form, seed, weak=False):
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     nrng = np.random.default_rng(seed + 7)
-    noisy = lambda x: x + 0.01 * np.sqrt(np.mean(x * x)) * nrng.standard_normal(x.size)
+    noisy = lambda x: x + NOISE * np.sqrt(np.mean(x * x)) * nrng.standard_normal(x.size)
     chans = [{"id": "XX.S.01.HNX", "quantity": "acceleration", "building": "S", "floor": 1},
              {"id": "XX.T.01.HNX", "quantity": "acceleration", "building": "T", "floor": 1},
              {"id": "XX.S.01.HYX", "quantity": "displacement", "building": "S", "floor": 1},

@@ -249,6 +249,21 @@ def test_a_written_case_loads(tmp_path, form):
         assert ids == {c["id"] for c in chans}
 
 
+def test_an_invisible_effect_is_drawn_again():
+    """Regression guard of the generator's rule: an effect case with no impact where the effect acts only in
+    impacts, or an effect NE under twice the noise, is refused; a control never is."""
+    def key(form, ne, impacts):
+        return {"form": form, "family": suite.FORMS[form][0], "effect_ne": ne, "impacts": impacts}
+
+    assert "no impact" in suite.invisible(key("tanh", 0.0, 0))
+    assert "no impact" in suite.invisible(key("attachment+tanh", 0.3, 0))
+    assert "effect NE" in suite.invisible(key("takeda", 0.019, 40))
+    assert suite.invisible(key("takeda", 0.021, 0)) is None  # a yielding storey shows without impacts
+    assert suite.invisible(key("reciprocal", 0.035, 12)) is None
+    assert suite.invisible(key("wrong-e", 0.0, 0)) is None
+    assert suite.invisible(key("fault-gain", 0.001, 3)) is None
+
+
 def test_flexible_base_period_of_a_one_storey_building():
     """Closed form: a one-storey building (mass m, storey k, height h) on sway and rocking springs with a
     massless foundation has T / T_fixed = sqrt(1 + k / kx + k h^2 / kt) (Veletsos & Meek 1974); the period

@@ -710,9 +710,57 @@ def _starts(name, variant, data, alt, base, chans, trial_list):
             own = [s.partition("=")[0] for s in specs]
             bases.append({p: _like(v, get_value(aug, p)) for p, v in alt.items() if not any(_covers(o, p) for o in own)})
         nulls = [{**b, **null} for b in bases]  # a form's own values last: a storey's stiffness after the list's
-        return aug, specs, nulls + _best_candidates(aug, specs, base, chans, trial_list, bases)
+        anchors = _yield_anchors(data, specs, nulls, base, trial_list)
+        return aug, specs, nulls + _best_candidates(aug, specs, base, chans, trial_list, bases, anchors)
     except Exception as exc:  # noqa: BLE001
         return f"{type(exc).__name__}: {exc}"
+
+
+DUCTILITIES = (2.0, 4.0)  # the yield drifts a yielding form's scan also tries: the elastic peak over these
+
+
+def _yield_anchors(data, specs, nulls, base, trial_list) -> list[dict]:
+    """Scan points of a yielding form anchored on the response: each building's yield drift at its elastic
+    model's peak storey deformation over each of DUCTILITIES (the equal-displacement rule: a storey that
+    yields at a ductility mu deforms about as far as the elastic one, so it yields near peak / mu; Chopra
+    2017, Sec. 7.10), its other parameters at the null point, on every set of base values in ``nulls``.  At
+    the null point (a yield drift of 5 m) no parameter has a gradient, and Sobol points spread the yield
+    drift over four decades, so a storey yielding at a ductility of 2-4 may lie between two of them.
+    Returns [(index of the set of base values, point)], [] for a form without a yield drift."""
+    from ..calibrate.observe import Observer
+    from ..results.floors import floor_view
+    from ..results.peaks import drift_history, storey_arrays
+    from ..simulation import run_inputs, run_row
+
+    bounds = {}
+    for spec in specs:
+        path, _, b = spec.partition("=")
+        if path.endswith(".storey_law.yield_drift"):
+            bounds[path.split(".")[1]] = tuple(float(x) for x in b.split(":"))
+    if not bounds:
+        return []
+    anchors = []
+    for k, null in enumerate(nulls):
+        overrides = [(p, v) for p, v in null.items() if ".storey_law." not in p]  # the elastic base
+        peak = {}
+        obs = Observer(data, base, [], trial_list)
+        for trial in trial_list:
+            model = obs.model_for(trial, overrides)
+            system, motions = run_inputs(model)
+            view, floors = floor_view(run_row(model, system, motions.rows, limit_contact_step=False), system)
+            drift = view.drift if view.drift is not None else drift_history(view.displacement,
+                                                                             storey_arrays(floors, model.buildings)[0])
+            for i, b in enumerate(model.buildings):
+                cols = floors.dof_building == i
+                if cols.any() and drift.shape[0]:
+                    peak[b.name] = max(peak.get(b.name, 0.0), float(np.abs(drift[:, cols]).max()))
+        for mu in DUCTILITIES:
+            point = dict(null)
+            for name, (lo, hi) in bounds.items():
+                if peak.get(name, 0.0) > 0.0:
+                    point[f"building.{name}.storey_law.yield_drift"] = min(max(peak[name] / mu, lo), hi)
+            anchors.append((k, point))
+    return anchors
 
 
 def _like(value, shape):
@@ -754,9 +802,10 @@ def _short(aug, specs, start, base, chans, trial_list):
         return f"{type(exc).__name__}: {exc}"
 
 
-def _best_candidates(aug, specs, base, chans, trial_list, bases=({},)) -> list[dict]:
+def _best_candidates(aug, specs, base, chans, trial_list, bases=({},), anchors=()) -> list[dict]:
     """The STARTS best of CANDIDATES points of a scrambled Sobol sequence (fixed seed) across the (log-)bounds,
-    each on every set of base values in ``bases`` and judged by one simulation: the misfit of a missing
+    each on every set of base values in ``bases``, and of the ``anchors`` (points placed by the response,
+    ``_yield_anchors``: (index into ``bases``, point)), each judged by one simulation: the misfit of a missing
     effect has local minima, and a start in the wrong basin ends there (a yielding row fitted as elastic sits
     at damping ratios near 0.3).  The best point on each set of base values is kept, then the best of the
     rest.  The scan ties a key across the buildings (one yield drift for the row), so that eight points
@@ -776,10 +825,10 @@ def _best_candidates(aug, specs, base, chans, trial_list, bases=({},)) -> list[d
     obs = Observer(aug, base, chans, trial_list)
     recs = [{c.id: t.recording.data[c.id] for c in chans} for t in trial_list]
     scored = []
-    for u, (k, b) in itertools.product(pts, enumerate(bases)):
-        start = {p: (lo * (hi / lo) ** x if lo > 0 else lo + x * (hi - lo))
-                 for members, x in zip(groups.values(), u) for p, lo, hi in members}
-        start = {**b, **start}
+    points = [(k, {**b, **{p: (lo * (hi / lo) ** x if lo > 0 else lo + x * (hi - lo))
+                           for members, x in zip(groups.values(), u) for p, lo, hi in members}})
+              for u, (k, b) in itertools.product(pts, enumerate(bases))]
+    for k, start in points + list(anchors):
         try:
             sims = obs.simulate(list(start.items()))
         except Exception:  # noqa: BLE001 (a point where the model cannot run is no start)

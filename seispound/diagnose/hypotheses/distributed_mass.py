@@ -22,10 +22,14 @@ def _attached(d):
     # a pounding element on a compliant joint (a body bolted or cast on at the contact face): every floor a stiff
     # two-node rod (EA 1e13 N over an assumed 20 m) carrying on each face toward a neighbour a body on a joint;
     # the joint's stiffness fitted per building, the body's mass and the joint's damping one value for the row
-    # (null: a body of 0.01 % of the lightest floor on a joint as stiff as the rod)
+    # (null: a body of 0.01 % of the lightest floor on a joint as stiff as the rod).  The body stands for whatever
+    # of the floor moves against the rest at the contact face, up to half the lightest floor's mass: the
+    # effective mass at a face of a uniform free-free rod in its first axial mode (mode shape cos(pi x / L),
+    # modal mass m / 2 at unit end amplitude; derived here), and a floor whose mass gathers toward its contact
+    # face holds more there than a uniform rod's half segment
     floors = [m for b in d["building"] for m in (b["floor_masses"] if isinstance(b["floor_masses"], list)
                                                  else [b["floor_masses"]])]
-    m_lo, m_hi = 1e-4 * min(floors), 0.1 * min(floors)
+    m_lo, m_hi = 1e-4 * min(floors), 0.5 * min(floors)
     # the bounds in full precision: the null point sits on the lower one, and "%g" rounded it above the value
     specs = [f"building.*.floor_model.attachment.mass={float(m_lo)!r}:{float(m_hi)!r}",
              "building.*.floor_model.attachment.joint_damping=10:1e8"]

@@ -719,13 +719,14 @@ def _starts(name, variant, data, alt, base, chans, trial_list):
 DUCTILITIES = (2.0, 4.0)  # the yield drifts a yielding form's scan also tries: the elastic peak over these
 
 
-def _yield_anchors(data, specs, nulls, base, trial_list) -> list[dict]:
+def _yield_anchors(data, specs, nulls, base, trial_list) -> list[tuple[int, dict]]:
     """Scan points of a yielding form anchored on the response: each building's yield drift at its elastic
-    model's peak storey deformation over each of DUCTILITIES (the equal-displacement rule: a storey that
-    yields at a ductility mu deforms about as far as the elastic one, so it yields near peak / mu; Chopra
-    2017, Sec. 7.10), its other parameters at the null point, on every set of base values in ``nulls``.  At
-    the null point (a yield drift of 5 m) no parameter has a gradient, and Sobol points spread the yield
-    drift over four decades, so a storey yielding at a ductility of 2-4 may lie between two of them.
+    model's peak storey deformation over each of DUCTILITIES, its other parameters at the null point, on
+    every set of base values in ``nulls``.  The equal-displacement rule (Chopra, Dynamics of Structures,
+    Ch. 7: periods beyond the spectrum's acceleration plateau) says that a storey yielding at a ductility mu
+    deforms about as far as the elastic one, so it yields near peak / mu.  At the null point (a yield
+    drift of 5 m) no parameter has a gradient, and Sobol points spread the yield drift over four decades,
+    so a storey yielding at a ductility of 2-4 may lie between two of them.
     Returns [(index of the set of base values, point)], [] for a form without a yield drift."""
     from ..calibrate.observe import Observer
     from ..results.floors import floor_view

@@ -305,6 +305,8 @@ def _not_identified(J, paths, observer) -> dict:
     J = np.asarray(J, float)
     if J.size == 0:
         return {}
+    if not np.all(np.isfinite(J)):
+        return {path: "the model blows up next to the fitted point, so its sensitivity is unknown" for path in paths}
     cols = np.linalg.norm(J, axis=0)
     out = {}
     no_impact = not any(len(t) for t in getattr(observer, "impact_times", []) or [])
@@ -330,7 +332,13 @@ def _covariance(fit, recs):
     """
     r, J = fit.fun, fit.jac
     n, p = J.shape
-    H = np.linalg.pinv(J.T @ J)
+    if not (np.all(np.isfinite(J)) and np.all(np.isfinite(r))):
+        # a finite difference that reached a point where the model blows up: no error can be had from it
+        return np.full((p, p), np.inf), n, float(n)
+    try:
+        H = np.linalg.pinv(J.T @ J)
+    except np.linalg.LinAlgError:
+        return np.full((p, p), np.inf), n, float(n)
     meat, start = np.zeros((p, p)), 0
     for rec in recs:
         size = sum(x.size for x in rec.values())

@@ -614,7 +614,8 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
                 (kind, form), out = pending.pop(fut), fut.result()
                 _progress(say, kind, form, out, len(final), len(forms))
                 if isinstance(out, str):  # an augmentation that cannot run is reported, not fatal
-                    final[form] = out
+                    if kind != "polish":  # a polish that cannot run leaves the form's short fit standing
+                        final[form] = out
                 elif kind == "starts":
                     aug, specs, starts = out
                     left[form] = len(starts)
@@ -864,10 +865,15 @@ def _polish(texts, specs, both, base, chans, trial_list, max_evaluations, every_
         return calibrate_observer(Observer(data, base, chans, trial_list), params, progress=False,
                                   max_evaluations=budget, tolerance=TOLERANCE, step_fraction=STEP)
 
-    owns = []
+    owns, failed = [], []
     for text in texts:
         start = tomllib.loads(text)
-        owns.append(fit(start, parse_fit(specs, start)))
+        try:
+            owns.append(fit(start, parse_fit(specs, start)))
+        except Exception as exc:  # noqa: BLE001 (a stage that cannot run leaves the screened fit standing)
+            failed.append(f"{type(exc).__name__}: {exc}")
+    if not owns:
+        return "; ".join(failed)
     own = min(owns, key=lambda f: f.ne_mean_after)
     if len(both) == len(specs):
         return own

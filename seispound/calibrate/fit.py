@@ -332,13 +332,13 @@ def _covariance(fit, recs):
     """
     r, J = fit.fun, fit.jac
     n, p = J.shape
+    unknown = np.full((p, p), np.inf), n, float(n)
     if not (np.all(np.isfinite(J)) and np.all(np.isfinite(r))):
-        # a finite difference that reached a point where the model blows up: no error can be had from it
-        return np.full((p, p), np.inf), n, float(n)
+        return unknown  # a finite difference reached a point where the model blows up
     try:
         H = np.linalg.pinv(J.T @ J)
     except np.linalg.LinAlgError:
-        return np.full((p, p), np.inf), n, float(n)
+        return unknown
     meat, start = np.zeros((p, p)), 0
     for rec in recs:
         size = sum(x.size for x in rec.values())

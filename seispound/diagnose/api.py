@@ -731,7 +731,7 @@ def _yield_anchors(data, specs, nulls, base, trial_list) -> list[tuple[int, dict
     Returns [(index of the set of base values, point)], [] for a form without a yield drift."""
     from ..calibrate.observe import Observer
     from ..results.floors import floor_view
-    from ..results.peaks import drift_history, storey_arrays
+    from ..results.peaks import run_drift, storey_arrays
     from ..simulation import run_inputs, run_row
 
     bounds = {}
@@ -750,8 +750,7 @@ def _yield_anchors(data, specs, nulls, base, trial_list) -> list[tuple[int, dict
             model = obs.model_for(trial, overrides)
             system, motions = run_inputs(model)
             view, floors = floor_view(run_row(model, system, motions.rows, limit_contact_step=False), system)
-            drift = view.drift if view.drift is not None else drift_history(view.displacement,
-                                                                             storey_arrays(floors, model.buildings)[0])
+            drift = run_drift(view, storey_arrays(floors, model.buildings)[0])
             for i, b in enumerate(model.buildings):
                 cols = floors.dof_building == i
                 if cols.any() and drift.shape[0]:

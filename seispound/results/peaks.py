@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["PEAKS", "dof_peaks", "drift_history", "amplifications", "storey_arrays"]
+__all__ = ["PEAKS", "dof_peaks", "drift_history", "run_drift", "amplifications", "storey_arrays"]
 
 #: (name, units, long name) of each peak quantity, per DOF.
 PEAKS = [
@@ -61,6 +61,12 @@ def drift_history(u, below) -> np.ndarray:
     ground = below < 0
     drift[:, ground] = u[:, ground]
     return drift
+
+
+def run_drift(raw, below) -> np.ndarray:
+    """A run's storey deformations [m], (nt, n): the floor view's own (``raw.drift``, which knows a
+    foundation's rocking) where it set them, else :func:`drift_history` of the displacements."""
+    return raw.drift if raw.drift is not None else drift_history(raw.displacement, below)
 
 
 FOLD = 64  # rows folded into one for a column reduction
@@ -97,14 +103,14 @@ def dof_peaks(raw, below, height, stiff, drift=None) -> dict:
     below, height, stiff : ndarray, shape (n,)
         From :func:`storey_arrays`.
     drift : ndarray, shape (nt, n), optional
-        :func:`drift_history` of the run, if the caller has it.
+        :func:`run_drift` of the run, if the caller has it.
 
     Returns
     -------
     dict of name -> ndarray (n,)
     """
     if drift is None:
-        drift = raw.drift if raw.drift is not None else drift_history(raw.displacement, below)
+        drift = run_drift(raw, below)
     peak_drift = _peak_abs(drift)
     shear = peak_drift * stiff  # an elastic storey's k is constant in time: max |k d| = k max |d|
     if raw.storey_force is not None and raw.storey_dofs.size:  # yielding storeys: their own force

@@ -80,7 +80,7 @@ import numpy as np
 import xarray as xr
 
 from .construct import dataset, variable
-from .peaks import PEAKS, amplifications, dof_peaks, drift_history, storey_arrays
+from .peaks import PEAKS, amplifications, dof_peaks, run_drift, storey_arrays
 
 SCHEMA = "seispound-result"
 SCHEMA_VERSION = 3
@@ -206,7 +206,7 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
     _scatter(acc, raw.acceleration, runs, b_of, f_of)
     # drift per DOF: floor minus the floor below (the ground below the first)
     below, storey_h, storey_k = lay.below, lay.storey_h, lay.storey_k
-    drift_dof = raw.drift if raw.drift is not None else drift_history(raw.displacement, below)
+    drift_dof = run_drift(raw, below)
     _scatter(drift, drift_dof, runs, b_of, f_of)
     # storey force k x drift, elementwise on the (building, floor) layout (no second scatter);
     # a yielding storey's own force where there is one

@@ -77,7 +77,7 @@ def twin_task(study, index: int) -> dict:
 def run_one(study, index: int, twin: dict) -> dict:
     """Run ``index`` of the study: its summaries (and kept histories) as arrays, or its error."""
     from ..results.floors import floor_view
-    from ..results.peaks import amplifications, dof_peaks, drift_history
+    from ..results.peaks import amplifications, dof_peaks, run_drift
     from ..simulation import run_inputs, run_row
 
     out = {"index": int(index), "status": STATUS_FAILED, "error": ""}
@@ -94,7 +94,7 @@ def run_one(study, index: int, twin: dict) -> dict:
     raw, floors = floor_view(raw, system)
     below, height, stiff = _storeys(model, floors)
     u = raw.displacement
-    drift = raw.drift if raw.drift is not None else drift_history(u, below)
+    drift = run_drift(raw, below)
     peaks = dof_peaks(raw, below, height, stiff, drift)
     peaks0 = twin["peaks"]
     amps = amplifications(peaks, peaks0)

@@ -38,13 +38,33 @@ def run_case(folder: str, jobs: int | None = None) -> dict:
     recordings = None if trials.exists() else [f / "recording.mseed"]
     d = diagnose(f / "model.toml", recordings, channels=f / "channels.toml", trials=trials if trials.exists() else None,
                  report=f / "report.json", output=f / "diagnosed.toml", progress=False, jobs=jobs)
-    return {"named": [x["physics"] for x in d.left_out], "ne_before": d.ne_before, "ne_after": d.ne_after,
-            "seconds": time.perf_counter() - t0, "noise_ne": d.noise_ne,
-            "hypotheses": {k: v.get("ne") for k, v in d.hypotheses.items()},
-            "probability": {x["physics"]: x.get("probability") for x in d.left_out},
-            "quantities": {x["physics"]: x.get("quantities", []) for x in d.left_out},
-            "fault": (d.instrument_fault or {}).get("channel"), "kept_as_given": d.kept_as_given,
-            "recalibrated_ne": d.numerics.get("recalibrated_ne")}
+    return _result(d.report(), time.perf_counter() - t0)
+
+
+def _result(report: dict, seconds: float) -> dict:
+    """A case's line of ``results.json`` from its diagnosis report (``Diagnosis.report()``)."""
+    return {"named": [x["physics"] for x in report["left_out"]], "ne_before": report["fit"]["before"],
+            "ne_after": report["fit"]["after"], "seconds": seconds, "noise_ne": report["noise_ne"],
+            "hypotheses": {k: v.get("ne") for k, v in report["hypotheses"].items()},
+            "probability": {x["physics"]: x.get("probability") for x in report["left_out"]},
+            "quantities": {x["physics"]: x.get("quantities", []) for x in report["left_out"]},
+            "fault": (report["instrument_fault"] or {}).get("channel"), "kept_as_given": report["kept_as_given"],
+            "recalibrated_ne": report["numerics"].get("recalibrated_ne")}
+
+
+def collected(root: Path, todo: list, key_time: float) -> dict:
+    """Results of the cases in ``todo`` whose diagnosis finished in a run that stopped before recording them.
+
+    A run's pool finishes the cases it has started when another case raises; each wrote its
+    ``report.json`` (after the set's key, so not left from an earlier set).  Their seconds are the
+    diagnosis's own, without reading the case."""
+    out = {}
+    for c in todo:
+        f = root / c / "report.json"
+        if f.exists() and f.stat().st_mtime > key_time:
+            rep = json.loads(f.read_text())
+            out[c] = _result(rep, rep["seconds"])
+    return out
 
 
 def score(key: dict, results: dict) -> dict:
@@ -91,6 +111,8 @@ def main(argv=None) -> int:
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--only", default="", help="comma-separated case names (default: all in key.json)")
     ap.add_argument("--markdown", default="", help="write the scored tables here")
+    ap.add_argument("--collect", action="store_true",
+                    help="score the cases a stopped run finished (their report.json) instead of running them again")
     args = ap.parse_args(argv)
     root = Path(args.cases)
     key = {}
@@ -100,12 +122,22 @@ def main(argv=None) -> int:
     out = root / "results.json"
     results = json.loads(out.read_text()) if out.exists() else {}
     todo = [c for c in names if c not in results]
+    if args.collect:
+        found = collected(root, todo, min(f.stat().st_mtime for f in root.glob("key*.json")))
+        results.update(found)
+        out.write_text(json.dumps(results, indent=1))
+        todo = [c for c in todo if c not in found]
+        print(f"collected {len(found)} finished cases from their reports", flush=True)
     t0 = time.perf_counter()
     with ProcessPoolExecutor(max_workers=args.jobs) as pool:
         futures = {pool.submit(run_case, str(root / c), 1 if args.jobs > 1 else None): c for c in todo}
         for i, fut in enumerate(as_completed(futures), 1):
             c = futures[fut]
-            results[c] = fut.result()
+            try:
+                results[c] = fut.result()
+            except Exception as exc:  # one case's failure is reported and the others go on; it stays to do
+                print(f"[{i}/{len(todo)}] {c}: FAILED, {type(exc).__name__}: {exc}", flush=True)
+                continue
             out.write_text(json.dumps(results, indent=1))
             r = results[c]
             print(f"[{i}/{len(todo)}] {c} {key[c].get('form', key[c]['family'])}: named {r['named'] or 'nothing'}, NE "

@@ -370,7 +370,8 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     # every fit's contact substeps as given, else 32 (what the numerics check below doubles)
     base_data.setdefault("analysis", {}).setdefault("contact_substeps", 32)
     base = Path(model.source).parent if model.source else Path(".")
-    say = (lambda msg: print(f"  {msg}", file=sys.stderr, flush=True)) if progress else (lambda msg: None)
+    say = ((lambda msg: print(f"  [{time.perf_counter() - t0:5.0f} s] {msg}", file=sys.stderr, flush=True))
+           if progress else (lambda msg: None))
 
     def ne_of(observer, overrides=()):
         sims = observer.simulate(list(overrides))

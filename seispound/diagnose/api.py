@@ -606,7 +606,8 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
         scanned = [f for k, f in origins[form].items() if k != "anchor"]
         anchor = origins[form].get("anchor")
         best_scanned = min((f.ne_mean_after for f in scanned), default=math.inf)
-        texts = [f.model_text for f in scanned + ([anchor] if anchor and anchor.ne_mean_after < best_scanned else [])]
+        with_anchor = anchor is not None and anchor.ne_mean_after < best_scanned
+        texts = [f.model_text for f in scanned + ([anchor] if with_anchor else [])]
         # the alternative, the explanation a physics must beat, is fitted jointly from each set of base values;
         # a physics from the better of its own fits.  In the first round (``alt`` given) the alternative's budget
         # is uncapped, since its simulations cost the base row's; on top of a first physics each costs that
@@ -615,7 +616,7 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
         alternative = form[0] in ALTERNATIVES
         uncapped = alternative and bool(alt)
         budget = POLISH * (len(both) + 1) if uncapped else min(POLISH * (len(both) + 1), max_evaluations)
-        run(("polish", form), _polish, texts, specs, both, *common, budget, alternative)
+        run(("polish", form), _polish, texts, specs, both, *common, budget, alternative, with_anchor)
     try:
         for form in forms:
             run(("starts", form), _starts, *form, data, alt, *common)
@@ -861,7 +862,7 @@ def _best_candidates(aug, specs, base, chans, trial_list, bases=({},), anchors=(
     return [s[3] for s in (sorted(firsts) + rest)[:max(STARTS, len(firsts))]], [s[3] for s in sorted(anchored)[:1]]
 
 
-def _polish(texts, specs, both, base, chans, trial_list, max_evaluations, every_base=False):
+def _polish(texts, specs, both, base, chans, trial_list, max_evaluations, every_base=False, anchored=False):
     """The screened fits (model texts: a form's best short fit from the nominal base values and from the
     recalibrated ones) each fitted on to convergence in their own parameters (``specs``), then the better
     together with the ones already fitted (``both`` holds all), from there: each stage has its own budget
@@ -869,7 +870,11 @@ def _polish(texts, specs, both, base, chans, trial_list, max_evaluations, every_
     polished because the recalibrated values compensate for the missing physics (a start that fits
     better at first may end worse).  With ``every_base`` (the wrong-parameter alternative) the joint
     stage runs from each of them, and its budget is
-    ``max_evaluations`` as given.  A joint fit that cannot run leaves the first stage's."""
+    ``max_evaluations`` as given.  With ``anchored`` (the last text is a yielding form's anchored start,
+    ``_best_candidates``) the joint stage also runs from that start's own fit: which own fit is best does
+    not tell the basins apart either (development case 4104-006, pinched Clough storeys: the joint stage
+    from the best own fit ended at 0.43, from the anchor's at 0.25).  A joint fit that cannot run leaves
+    the first stage's."""
     import tomllib
     from dataclasses import replace
 
@@ -881,11 +886,12 @@ def _polish(texts, specs, both, base, chans, trial_list, max_evaluations, every_
         return calibrate_observer(Observer(data, base, chans, trial_list), params, progress=False,
                                   max_evaluations=budget, tolerance=TOLERANCE, step_fraction=STEP)
 
-    owns, failed = [], []
-    for text in texts:
+    owns, failed, last = [], [], None
+    for k, text in enumerate(texts):
         start = tomllib.loads(text)
         try:
             owns.append(fit(start, parse_fit(specs, start)))
+            last = owns[-1] if anchored and k == len(texts) - 1 else last
         except Exception as exc:  # noqa: BLE001 (a stage that cannot run leaves the screened fit standing)
             failed.append(f"{type(exc).__name__}: {exc}")
     if not owns:
@@ -894,7 +900,8 @@ def _polish(texts, specs, both, base, chans, trial_list, max_evaluations, every_
     if len(both) == len(specs):
         return own
     best = own
-    for o in (sorted(owns, key=lambda f: f.ne_mean_after) if every_base else [own]):
+    froms = sorted(owns, key=lambda f: f.ne_mean_after) if every_base else [own]
+    for o in froms + ([last] if last is not None and all(last is not f for f in froms) else []):
         start = tomllib.loads(o.model_text)
         try:
             params = [replace(p, start=min(max(p.start, p.lo), p.hi)) for p in parse_fit(both, start)]

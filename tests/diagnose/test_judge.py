@@ -131,7 +131,7 @@ def test_the_alternatives_budget_is_uncapped_in_the_first_round_only(monkeypatch
             return "one form each"
         return {}, [f"x.{name}.{j}=1:2" for j in range(20)], [{"form": name}], []
 
-    def polish(texts, specs, both, base, chans, trial_list, budget, every_base=False):
+    def polish(texts, specs, both, base, chans, trial_list, budget, every_base=False, anchored=False):
         budgets[specs[0].split(".")[1]] = budget
         return _fit(0.01)
 
@@ -179,6 +179,12 @@ def test_the_alternative_is_polished_jointly_from_each_set_of_base_values(monkey
     assert _polish(texts, specs, both, None, [], [], 10_000).ne_mean_after == 0.030
     assert budgets == [120, 120, 240]  # 60 (p + 1) each stage
     assert _polish(texts, specs, both, None, [], [], 10_000, every_base=True).ne_mean_after == 0.011
+    # the last text an anchored start's (a yielding form's start placed by the response): the joint stage
+    # also runs from its own fit, though another own fit is better
+    budgets.clear()
+    assert _polish(texts, specs, both, None, [], [], 10_000, anchored=True).ne_mean_after == 0.030  # recal last
+    assert _polish(texts[::-1], specs, both, None, [], [], 10_000, anchored=True).ne_mean_after == 0.011
+    assert budgets == [120, 120, 240] + [120, 120, 240, 240]  # one joint stage where the anchor's own fit is best
 
 
 @pytest.mark.parametrize("anchor_ne, polished_from", [(0.40, ["nominal", "recalibrated", "anchor"]),

@@ -594,6 +594,7 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
     final, shorts, left, polished, anchored = {}, {form: [] for form in forms}, {}, set(), {}
     screen = {}  # each form's best short fit: what the screen ranks
     origins = {}  # each form's best short fit from the nominal and from the recalibrated base values
+    anchor_base = {}  # the base values (an ``origins`` key) a yielding form's anchored start stands on
     screened = False  # every short fit is in and the forms near the best were sent to be polished
     count = iter(range(1 << 30))
 
@@ -601,12 +602,14 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
         polished.add(form)
         fit, specs = final[form]
         both = _compatible(joint, specs) + specs  # its own last: a storey's stiffness set after the list's factor
-        # the best short fit from each set of base values, and from an anchor where that fits better than those
-        # (a start beside them, not in place of one: ``_best_candidates``)
+        # the best short fit from each set of base values, and from an anchor where that fits better than the
+        # scan's best on the anchor's own base values (a start beside them, not in place of one:
+        # ``_best_candidates``).  Judged on its own base, not against the best of all: on development case
+        # 4104-006 the anchor beat its own base's scan but not the other base's, and only its polish ends low
         scanned = [f for k, f in origins[form].items() if k != "anchor"]
         anchor = origins[form].get("anchor")
-        best_scanned = min((f.ne_mean_after for f in scanned), default=math.inf)
-        with_anchor = anchor is not None and anchor.ne_mean_after < best_scanned
+        own_base = origins[form].get(anchor_base.get(form))
+        with_anchor = anchor is not None and (own_base is None or anchor.ne_mean_after < own_base.ne_mean_after)
         texts = [f.model_text for f in scanned + ([anchor] if with_anchor else [])]
         # the alternative, the explanation a physics must beat, is fitted jointly from each set of base values;
         # a physics from the better of its own fits.  In the first round (``alt`` given) the alternative's budget
@@ -641,8 +644,10 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
                         final[form] = (fit, specs)
                         origins[form] = {}
                         for f, _, st in sorted(shorts[form], key=lambda o: o[0].ne_mean_after):
-                            origin = "anchor" if st in anchored[form] else bool(alt) and any(k in st for k in alt)
-                            origins[form].setdefault(origin, f)
+                            on_alt = bool(alt) and any(k in st for k in alt)  # on the recalibrated base values
+                            if st in anchored[form]:
+                                anchor_base[form] = on_alt
+                            origins[form].setdefault("anchor" if st in anchored[form] else on_alt, f)
                         screen[form] = fit.ne_mean_after
                         if fit.ne_mean_after < ne_base:
                             polish(form)

@@ -100,9 +100,14 @@ def _peak_through(fa, fb, fc, ha, hc):
 
 
 @njit(cache=True)
-def _end_impact(g, t, rg, m_act, act_list, active, cur_imp, imp_t0, imp_dur, imp_vout):
+def _end_impact(g, t, rg, m_act, act_list, cs, cat):
     """Close gap g's impact at time t with separation rate rg: its catalogue row (duration, exit
-    velocity -rg) and the list of closed gaps; returns the new number of closed gaps."""
+    velocity -rg) and the list of closed gaps; returns the new number of closed gaps.
+
+    cs = (active, st_c, hsub, age, cur_imp): each gap's contact state; cat = (gap, t0, v0, vout, fmax,
+    dur, zeta, e): the impact catalogue (``_begin_impact``)."""
+    active, cur_imp = cs[0], cs[4]
+    imp_t0, imp_vout, imp_dur = cat[1], cat[3], cat[5]
     active[g] = False
     for q in range(m_act):
         if act_list[q] == g:
@@ -153,12 +158,18 @@ def _group_contacts(m, act_list, gap_lo, gap_hi, comp_off):
 
 
 @njit(cache=True)
-def _begin_impact(g, t, dg, rg, code, par, n_sub, active, st_c, hsub, age, cur_imp,
-                  n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_e, imp_fmax, imp_dur, imp_vout):
+def _begin_impact(g, t, dg, rg, code, par, n_sub, cs, cat, n_imp):
     """Open impact number ``n_imp`` at gap g: the law's onset hook (``_material.material_onset``)
     commits its damping and the e it comes from, set by the approach velocity rg, to row g of the
     state table st_c; size its substeps, start its catalogue row; return its onset
-    force."""
+    force.
+
+    cs = (active (ng,) bool, st_c (ng, N_STATE), hsub (ng,) [s], age (ng,) int, cur_imp (ng,) int): each
+    gap's contact state (closed?, committed law state, substep, accepted substeps, catalogue row);
+    cat = (gap, t0 [s], v0 [m/s], vout [m/s], fmax [N], dur [s], zeta, e), each (capacity,): the impact
+    catalogue."""
+    active, st_c, hsub, age, cur_imp = cs
+    imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e = cat
     active[g] = True
     material_onset(code, par, rg, st_c[g])
     imp_e[n_imp] = st_c[g, ST_E]

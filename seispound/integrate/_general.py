@@ -867,6 +867,8 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     d1, r1, toggles, land_too, gk = borrow(d1), borrow(r1), borrow(toggles), borrow(land_too), borrow(gk)
     g_t, g_1 = borrow(g_t), borrow(g_1)
     elg = (ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi)
+    cs = (active, st_c, hsub, age, cur_imp)  # each element's contact state (``_contact._begin_impact``)
+    cat = (imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e)  # the impact catalogue
     el_b = (ne_dof, ne_coef, ne_par, ne_gap)  # what the elastic factor adds
     twork = (zt, xt, resv, kt, Wt, Sm, ym, gpos)
     for s in range(stats.size):
@@ -888,8 +890,7 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
         elif d0[q] > 0.0 or (d0[q] == 0.0 and r0[q] > 0.0):
             if n_imp >= cap:
                 return IMPACT_CAPACITY, n_imp, t
-            _begin_impact(q, t, d0[q], r0[q], ne_code[q], ne_par[q], n_sub, active, st_c, hsub, age, cur_imp,
-                          n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_e, imp_fmax, imp_dur, imp_vout)
+            _begin_impact(q, t, d0[q], r0[q], ne_code[q], ne_par[q], n_sub, cs, cat, n_imp)
             n_imp += 1
         if active[q]:
             act[m_act] = q
@@ -1070,15 +1071,13 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
                 if not active[q]:
                     if n_imp >= cap:
                         return IMPACT_CAPACITY, n_imp, t
-                    F[q] = _begin_impact(q, t, d0[q], r0[q], ne_code[q], ne_par[q], n_sub, active, st_c, hsub,
-                                         age, cur_imp, n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_e, imp_fmax,
-                                         imp_dur, imp_vout)
+                    F[q] = _begin_impact(q, t, d0[q], r0[q], ne_code[q], ne_par[q], n_sub, cs, cat, n_imp)
                     fmax[q] = max(fmax[q], F[q])
                     n_imp += 1
                     act[m_act] = q
                     m_act += 1
                 else:
-                    m_act = _end_impact(q, t, r0[q], m_act, act, active, cur_imp, imp_t0, imp_dur, imp_vout)
+                    m_act = _end_impact(q, t, r0[q], m_act, act, cs, cat)
                     F[q] = 0.0
             if n_tog > 0:
                 n_comp = _group_contacts(m_act, act, ne_lo, ne_hi, comp_off)

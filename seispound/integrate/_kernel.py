@@ -191,7 +191,6 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     n = mass.size
     ng = gap_size.size
     nm = ag.shape[0]
-    cap = imp_gap.size
     # -- work arrays (allocated once; the loop allocates nothing) ------------
     # factors of K_hat for h = dt / 2^k (contact substeps stay on this grid,
     # so each level is factored once) plus one scratch factor for odd steps
@@ -365,6 +364,16 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     g_1, mq, mqv, mqa, Qb, QVb = borrow(g_1), borrow(mq), borrow(mqv), borrow(mqa), borrow(Qb), borrow(QVb)
     QAb, DQb, Pb, Ub, Vb, f_start = borrow(QAb), borrow(DQb), borrow(Pb), borrow(Ub), borrow(Vb), borrow(f_start)
     s_in, s_out, Eb, md_khinv = borrow(s_in), borrow(s_out), borrow(Eb), borrow(md_khinv)
+    # the named groups of arrays that the phases take (tuples of the borrowed arrays above)
+    row = (mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1)  # the linear row: masses, two-node elements
+    gaps = (gap_i, gap_j, gap_lo, gap_hi, gap_size, gap_law, gap_par)
+    cs = (active, st_c, hsub, age, cur_imp)  # each gap's contact state (``_contact._begin_impact``)
+    cat = (imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e)  # the impact catalogue
+    outs = (out_u, out_v, out_a, out_f, out_e, umax, fmax)
+    st = (u, v, a, fint, fs, fd)  # the state and the internal forces in equilibrium with it
+    runs = (r_lo, r_hi, r_elo, r_ehi, w_lo, w_hi, w_elo, w_ehi)  # stepping and waiting buildings' runs
+    mr = (blk_dof, blk_el, dof_blk, gb_lo, gb_hi, in_s, was_s, scr)  # multi-rate: who steps
+    ws = (g_w0, g_w1, du_w, u_w1, v_w1, a_w1, L_w, zero_n)  # the waiting buildings' step
 
     if not _factor(dt, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[0]):
         return NEWTON_FAILED, 0, 0.0
@@ -374,60 +383,15 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     stats[S_FACTORIZATIONS] += 1
     h_cached = -1.0
 
-    # -- initial state: gaps already closing at t = 0 (touching bodies) ------
+    # -- initial state: gaps already closing at t = 0 (touching bodies) start an impact; output row 0
     t = 0.0
-    for g in range(ng):
-        if gap_law[g] == NONE:
-            continue
-        dg, rg = _gap_deformation(u, v, gap_i[g], gap_j[g], gap_size[g], 0.0, 0.0)
-        if dg > 0.0 or (dg == 0.0 and rg > 0.0):
-            if n_imp >= cap:
-                return IMPACT_CAPACITY, n_imp, t
-            _begin_impact(g, t, dg, rg, gap_law[g], gap_par[g], n_sub, active, st_c, hsub, age, cur_imp,
-                          n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_e, imp_fmax, imp_dur, imp_vout)
-            n_imp += 1
-    _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd)
-    _ground_all(ag, t, dt, g_t)
-    es0 = 0.0
-    ek = 0.0
-    for i in range(n):
-        fint[i] = fs[i] + fd[i]
-        a[i] = -g_t[dof_motion[i]] - fint[i] / mass[i]
-        es0 += 0.5 * fs[i] * u[i]
-        ek += 0.5 * mass[i] * v[i] * v[i]
-    for g in range(ng):
-        F[g] = 0.0
-        if active[g]:
-            dg, rg = _gap_deformation(u, v, gap_i[g], gap_j[g], gap_size[g], 0.0, 0.0)
-            F[g] = contact_force(gap_law[g], gap_par[g], dg, rg, st_c[g, ST_ZETA])[0]
-            a[gap_i[g]] -= F[g] / mass[gap_i[g]]
-            a[gap_j[g]] += F[g] / mass[gap_j[g]]
-            imp_fmax[cur_imp[g]] = max(F[g], 0.0)
-    e_in = ek + es0  # energy present at t = 0 counts as input
+    status, n_imp, m_act, n_comp, e_in, es0 = _start(dt, ag, row, gaps, n_sub, st, F, cs, cat, outs, g_t,
+                                                     (d0, r0), (act_list, comp_off))
+    if status != OK:
+        return status, n_imp, t
     w_int = 0.0  # work of storey + damping forces; damping = w_int - (strain - strain0)
     e_cont = 0.0
-    for i in range(n):
-        out_u[0, i] = u[i]
-        out_v[0, i] = v[i]
-        out_a[0, i] = a[i] + g_t[dof_motion[i]]
-        umax[i] = abs(u[i])
-    for g in range(ng):
-        out_f[0, g] = F[g]
-        fmax[g] = max(F[g], 0.0)
-    out_e[0, E_INPUT] = e_in
-    out_e[0, E_KINETIC] = ek
-    out_e[0, E_STRAIN] = es0
-    out_e[0, E_DAMPING] = 0.0
-    out_e[0, E_CONTACT] = 0.0
     pending = -1  # output row still waiting for its strain energy
-    m_act = 0  # gaps in contact, listed in act_list (kept up to date at events)
-    for g in range(ng):
-        d0[g], r0[g] = _gap_deformation(u, v, gap_i[g], gap_j[g], gap_size[g], 0.0, 0.0)
-        if active[g]:
-            act_list[m_act] = g
-            m_act += 1
-    # the closed gaps in groups that share no building (updated at every event)
-    n_comp = _group_contacts(m_act, act_list, gap_lo, gap_hi, comp_off)
 
     hmin = 1e-9 * dt  # events closer than this to the step start switch in place
     step = 0
@@ -888,66 +852,24 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     for k_t in range(n_land):  # gaps at their own crossing too (screen)
                         toggles[n_tog] = land_too[k_t]
                         n_tog += 1
-            for k_t in range(n_tog):
-                # ---- switch gap g: onset (the law's onset hook) or end of an impact
-                g = toggles[k_t]
-                dg, rg = _gap_deformation(u, v, gap_i[g], gap_j[g], gap_size[g], gk[GU0, g], gk[GV0, g])
-                if not active[g]:
-                    if n_imp >= cap:
-                        return IMPACT_CAPACITY, n_imp, t
-                    F[g] = _begin_impact(g, t, dg, rg, gap_law[g], gap_par[g], n_sub, active, st_c, hsub,
-                                         age, cur_imp, n_imp, imp_gap, imp_t0, imp_v0, imp_zeta, imp_e,
-                                         imp_fmax, imp_dur, imp_vout)
-                    if F[g] > fmax[g]:
-                        fmax[g] = F[g]
-                    n_imp += 1
-                    act_list[m_act] = g
-                    m_act += 1
-                else:
-                    m_act = _end_impact(g, t, rg, m_act, act_list, active, cur_imp, imp_t0, imp_dur, imp_vout)
-                    F[g] = 0.0
             if n_tog > 0:
+                # ---- SWITCH: an impact's onset (the law's onset hook) or end at each gap in toggles
+                status, n_imp, m_act = _switch(toggles, n_tog, t, n_sub, st, gaps, gk, F, fmax, cs, cat, act_list,
+                                               (n_imp, m_act))
+                if status != OK:
+                    return status, n_imp, t
                 n_comp = _group_contacts(m_act, act_list, gap_lo, gap_hi, comp_off)
-                # the contact force may jump at an event (LVe's dashpot): restore
-                # equilibrium; the jump happens at fixed u and does no work
-                # (on the stepping buildings: the waiting ones are still at the step's start)
-                for rr in range(n_run):
-                    _internal_range(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd, r_lo[rr], r_hi[rr],
-                                    r_elo[rr], r_ehi[rr])
-                    for i in range(np.uint64(r_lo[rr]), np.uint64(r_hi[rr])):
-                        fint[i] = fs[i] + fd[i]
-                        a[i] = -g_t[dof_motion[i]] - fint[i] / mass[i]
-                for q in range(ng):
-                    if F[q] != 0.0:
-                        a[gap_i[q]] -= F[q] / mass[gap_i[q]]
-                        a[gap_j[q]] += F[q] / mass[gap_j[q]]
+                _equilibrium(row, st, g_t, gaps, F, runs, n_run)
         if waiting:
             # ---- the waiting buildings' step is accepted with the stepping ones' last
-            for w in range(n_wrun):
-                e_in, w_int = _waiting_commit(w_lo[w], w_hi[w], mass, dof_motion, g_w0, g_w1, du_w, v_w1, a_w1,
-                                              u, v, a, fint, umax, e_in, w_int)
-            for g in range(ng):
-                if not (in_s[dof_blk[gap_i[g]]] and in_s[dof_blk[gap_j[g]]]):
-                    d0[g], r0[g] = _gap_deformation(u, v, gap_i[g], gap_j[g], gap_size[g], gk[GU0, g], gk[GV0, g])
+            e_in, w_int = _commit_waiting(n_wrun, mr, runs, ws, row, gaps, gk, st, umax, (d0, r0), (e_in, w_int))
             waiting = False
         # ---- output at the analysis step ---------------------------------------
         step += 1
         if not store:
             continue  # peaks only (the no-pounding twin): no histories to write
-        k = step
-        ek = 0.0
-        for i in range(n):
-            out_u[k, i] = u[i]
-            out_v[k, i] = v[i]
-            out_a[k, i] = a[i] + g_t[dof_motion[i]]
-            ek += 0.5 * mass[i] * v[i] * v[i]
-        for g in range(ng):
-            out_f[k, g] = F[g]
-        out_e[k, E_INPUT] = e_in
-        out_e[k, E_KINETIC] = ek
-        out_e[k, E_DAMPING] = w_int  # strain energy subtracted when K u is next formed
-        out_e[k, E_CONTACT] = e_cont
-        pending = k
+        _output_row(step, st, g_t, row, F, outs, (e_in, w_int, e_cont))
+        pending = step
     if pending >= 0:
         _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd)
         es = 0.0
@@ -957,3 +879,164 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
         out_e[pending, E_DAMPING] -= es - es0
     keep_alive(owners)
     return OK, n_imp, t
+
+
+@njit(cache=True)
+def _start(dt, ag, row, gaps, n_sub, st, F, cs, cat, outs, g_t, dr, lists):
+    """The state at t = 0: gaps already closing (touching bodies) start an impact, the accelerations follow
+    from equilibrium, output row 0 is written and the closed gaps are listed and grouped.
+
+    Tuples as in ``integrate_kernel``; dr = (d0, r0) each gap's penetration [m] and rate [m/s], filled;
+    lists = (act_list, comp_off), filled.  Returns (status, n_impacts, gaps closed, contact groups, energy
+    present at t = 0 [J] (counted as input), strain energy at t = 0 [J])."""
+    mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1 = row
+    gap_i, gap_j, gap_lo, gap_hi, gap_size, gap_law, gap_par = gaps
+    u, v, a, fint, fs, fd = st
+    active, st_c, cur_imp, imp_fmax = cs[0], cs[1], cs[4], cat[4]
+    out_u, out_v, out_a, out_f, out_e, umax, fmax = outs
+    d0, r0 = dr
+    act_list, comp_off = lists
+    n = mass.size
+    ng = gap_size.size
+    n_imp = 0
+    for g in range(ng):
+        if gap_law[g] == NONE:
+            continue
+        dg, rg = _gap_deformation(u, v, gap_i[g], gap_j[g], gap_size[g], 0.0, 0.0)
+        if dg > 0.0 or (dg == 0.0 and rg > 0.0):
+            if n_imp >= imp_fmax.size:
+                return IMPACT_CAPACITY, n_imp, 0, 0, 0.0, 0.0
+            _begin_impact(g, 0.0, dg, rg, gap_law[g], gap_par[g], n_sub, cs, cat, n_imp)
+            n_imp += 1
+    _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd)
+    _ground_all(ag, 0.0, dt, g_t)
+    es0 = 0.0
+    ek = 0.0
+    for i in range(n):
+        fint[i] = fs[i] + fd[i]
+        a[i] = -g_t[dof_motion[i]] - fint[i] / mass[i]
+        es0 += 0.5 * fs[i] * u[i]
+        ek += 0.5 * mass[i] * v[i] * v[i]
+    for g in range(ng):
+        F[g] = 0.0
+        if active[g]:
+            dg, rg = _gap_deformation(u, v, gap_i[g], gap_j[g], gap_size[g], 0.0, 0.0)
+            F[g] = contact_force(gap_law[g], gap_par[g], dg, rg, st_c[g, ST_ZETA])[0]
+            a[gap_i[g]] -= F[g] / mass[gap_i[g]]
+            a[gap_j[g]] += F[g] / mass[gap_j[g]]
+            imp_fmax[cur_imp[g]] = max(F[g], 0.0)
+    e_in = ek + es0
+    for i in range(n):
+        out_u[0, i] = u[i]
+        out_v[0, i] = v[i]
+        out_a[0, i] = a[i] + g_t[dof_motion[i]]
+        umax[i] = abs(u[i])
+    for g in range(ng):
+        out_f[0, g] = F[g]
+        fmax[g] = max(F[g], 0.0)
+    out_e[0, E_INPUT] = e_in
+    out_e[0, E_KINETIC] = ek
+    out_e[0, E_STRAIN] = es0
+    out_e[0, E_DAMPING] = 0.0
+    out_e[0, E_CONTACT] = 0.0
+    m_act = 0  # gaps in contact, listed in act_list (kept up to date at events)
+    for g in range(ng):
+        d0[g], r0[g] = _gap_deformation(u, v, gap_i[g], gap_j[g], gap_size[g], 0.0, 0.0)
+        if active[g]:
+            act_list[m_act] = g
+            m_act += 1
+    # the closed gaps in groups that share no building (updated at every event)
+    return OK, n_imp, m_act, _group_contacts(m_act, act_list, gap_lo, gap_hi, comp_off), e_in, es0
+
+
+@njit(cache=True)
+def _switch(toggles, n_tog, t, n_sub, st, gaps, gk, F, fmax, cs, cat, act_list, counts):
+    """Switch the gaps toggles[:n_tog] at time t: an impact's onset (the law's onset hook, its force F[g]
+    [N]) where the gap was open, its end where it was closed.  counts = (impacts so far, gaps closed);
+    returns (status, impacts, gaps closed)."""
+    u, v = st[0], st[1]
+    gap_i, gap_j, gap_size, gap_law, gap_par = gaps[0], gaps[1], gaps[4], gaps[5], gaps[6]
+    active = cs[0]
+    n_imp, m_act = counts
+    for k_t in range(n_tog):
+        g = toggles[k_t]
+        dg, rg = _gap_deformation(u, v, gap_i[g], gap_j[g], gap_size[g], gk[GU0, g], gk[GV0, g])
+        if not active[g]:
+            if n_imp >= cat[0].size:
+                return IMPACT_CAPACITY, n_imp, m_act
+            F[g] = _begin_impact(g, t, dg, rg, gap_law[g], gap_par[g], n_sub, cs, cat, n_imp)
+            if F[g] > fmax[g]:
+                fmax[g] = F[g]
+            n_imp += 1
+            act_list[m_act] = g
+            m_act += 1
+        else:
+            m_act = _end_impact(g, t, rg, m_act, act_list, cs, cat)
+            F[g] = 0.0
+    return OK, n_imp, m_act
+
+
+@njit(cache=True)
+def _equilibrium(row, st, g_t, gaps, F, runs, n_run):
+    """The accelerations from equilibrium at fixed (u, v) on the stepping buildings' runs (the waiting ones
+    are still at their step's start): a contact force may jump at an event (LVe's dashpot), and the jump
+    does no work."""
+    mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1 = row
+    u, v, a, fint, fs, fd = st
+    r_lo, r_hi, r_elo, r_ehi = runs[0], runs[1], runs[2], runs[3]
+    gap_i, gap_j = gaps[0], gaps[1]
+    for rr in range(n_run):
+        _internal_range(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd, r_lo[rr], r_hi[rr],
+                        r_elo[rr], r_ehi[rr])
+        for i in range(np.uint64(r_lo[rr]), np.uint64(r_hi[rr])):
+            fint[i] = fs[i] + fd[i]
+            a[i] = -g_t[dof_motion[i]] - fint[i] / mass[i]
+    for q in range(F.size):
+        if F[q] != 0.0:
+            a[gap_i[q]] -= F[q] / mass[gap_i[q]]
+            a[gap_j[q]] += F[q] / mass[gap_j[q]]
+
+
+@njit(cache=True)
+def _commit_waiting(n_wrun, mr, runs, ws, row, gaps, gk, st, umax, dr, energy):
+    """Accept the waiting buildings' analysis step with the stepping ones' last substep, and set the
+    penetration and rate (dr = (d0, r0)) of every gap with a waiting side.  energy = (e_in, w_int) [J];
+    returns them updated."""
+    e_in, w_int = energy
+    in_s, dof_blk = mr[5], mr[2]
+    w_lo, w_hi = runs[4], runs[5]
+    g_w0, g_w1, du_w, v_w1, a_w1 = ws[0], ws[1], ws[2], ws[4], ws[5]
+    mass, dof_motion = row[0], row[2]
+    gap_i, gap_j, gap_size = gaps[0], gaps[1], gaps[4]
+    u, v, a, fint = st[0], st[1], st[2], st[3]
+    d0, r0 = dr
+    for w in range(n_wrun):
+        e_in, w_int = _waiting_commit(w_lo[w], w_hi[w], mass, dof_motion, g_w0, g_w1, du_w, v_w1, a_w1,
+                                      u, v, a, fint, umax, e_in, w_int)
+    for g in range(gap_size.size):
+        if not (in_s[dof_blk[gap_i[g]]] and in_s[dof_blk[gap_j[g]]]):
+            d0[g], r0[g] = _gap_deformation(u, v, gap_i[g], gap_j[g], gap_size[g], gk[GU0, g], gk[GV0, g])
+    return e_in, w_int
+
+
+@njit(cache=True)
+def _output_row(k, st, g_t, row, F, outs, energy):
+    """Write output row k: the state (absolute accelerations), the gaps' forces and the energies
+    (energy = (e_in, w_int, e_cont) [J]; the strain energy, and the damping's share of w_int, follow when
+    K u is next formed)."""
+    u, v, a = st[0], st[1], st[2]
+    mass, dof_motion = row[0], row[2]
+    out_u, out_v, out_a, out_f, out_e = outs[0], outs[1], outs[2], outs[3], outs[4]
+    e_in, w_int, e_cont = energy
+    ek = 0.0
+    for i in range(u.size):
+        out_u[k, i] = u[i]
+        out_v[k, i] = v[i]
+        out_a[k, i] = a[i] + g_t[dof_motion[i]]
+        ek += 0.5 * mass[i] * v[i] * v[i]
+    for g in range(F.size):
+        out_f[k, g] = F[g]
+    out_e[k, E_INPUT] = e_in
+    out_e[k, E_KINETIC] = ek
+    out_e[k, E_DAMPING] = w_int  # strain energy subtracted when K u is next formed
+    out_e[k, E_CONTACT] = e_cont

@@ -90,9 +90,8 @@ from ._borrow import borrow, keep_alive
 from ._contact import _begin_impact, _contact_step, _end_impact, _grid_level, _group_contacts, _peak_through
 from ._elements import _gap_deformation, _gap_kinematics, _gap_trial
 from ._events import LAND_TOL, _event_in_step, _screen_step
-from ._exact import exact_coefficients
-from ._free_flight import _block_matvec, _exact_trial, _exact_waiting, _free_flight
-from ._ground import GU0, GU1, GV0, GV1, _gap_ground_accept, _gap_ground_all, _gap_ground_at, _ground_all
+from ._free_flight import _block_matvec, _exact_trial, _free_flight
+from ._ground import GU0, GU1, GV0, GV1, _gap_ground_accept, _gap_ground_all, _ground_all
 from ._linear import (
     SEMISEPARABLE_GAPS,
     _compliance_tridiagonal,
@@ -106,7 +105,7 @@ from ._linear import (
     _woodbury_columns,
 )
 from ._material import N_STATE, ST_ZETA
-from ._multirate import _gap_state, _runs, _screen_list, _waiting_commit, _waiting_trial
+from ._multirate import _gap_state, _join, _runs, _screen_list, _stepping, _waiting_commit, _waiting_step, _who_steps
 from ._newmark_step import _accept_rows, _newmark_predictor
 from ._newton import _newton
 from ._outputs import (  # noqa: F401 (re-exported)
@@ -374,6 +373,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     runs = (r_lo, r_hi, r_elo, r_ehi, w_lo, w_hi, w_elo, w_ehi)  # stepping and waiting buildings' runs
     mr = (blk_dof, blk_el, dof_blk, gb_lo, gb_hi, in_s, was_s, scr)  # multi-rate: who steps
     ws = (g_w0, g_w1, du_w, u_w1, v_w1, a_w1, L_w, zero_n)  # the waiting buildings' step
+    md = (md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam)  # the modal basis, for exact steps
+    waits = (exact, ex_co, ex_h, h_ex, md, (mq, mqv, mqa), L_lev[0], p, beta, gamma, (Av, Vv, R0))
+    gnd = (ag, moving, gap_ground)
 
     if not _factor(dt, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[0]):
         return NEWTON_FAILED, 0, 0.0
@@ -438,76 +440,28 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
             continue
         modal_current = False
         t_end = (step + 1) * dt
-        # ---- who steps: with multi-rate, the buildings of the closed gaps' groups
+        # ---- who steps: with multi-rate, the buildings of the closed gaps' groups; the others wait, taking
+        # the whole analysis step at once (``_multirate``)
+        n_wrun = _who_steps(m_act, act_list, multirate, wait_share, mr, runs)
         waiting = False
-        for b in range(nbk):
-            was_s[b] = in_s[b]
-            in_s[b] = not (multirate and m_act > 0)
-        if multirate and m_act > 0:
-            for q in range(m_act):
-                g = act_list[q]
-                for b in range(gb_lo[g], gb_hi[g]):
-                    in_s[b] = True
-            n_wrun = _runs(in_s, False, blk_dof, blk_el, w_lo, w_hi, w_elo, w_ehi)
-            n_w_dof = 0
-            for w in range(n_wrun):
-                n_w_dof += w_hi[w] - w_lo[w]
-            if n_w_dof < wait_share * n:  # too few would wait to pay for the bookkeeping: all step
-                for b in range(nbk):
-                    in_s[b] = True
-                n_wrun = 0
-            if n_wrun > 0:
-                t_w0 = t
-                for r in range(nm):
-                    g_w0[r] = g_t[r]
-                    g_w1[r] = ag[r, step + 1]
-                # the waiting buildings take the whole analysis step at once (factor of level 0)
-                for w in range(n_wrun):
-                    if exact:  # exact for the piecewise-linear ground motion, as in free flight
-                        _exact_waiting(w_lo[w], w_hi[w], ex_co, g_w0, g_w1, md_start, md_phi_t, md_phi_tm, md_w2,
-                                       md_c, md_gam, u, v, du_w, u_w1, v_w1, a_w1, mq, mqv, mqa)
-                    else:
-                        _waiting_trial(w_lo[w], w_hi[w], w_elo[w], w_ehi[w], dt, L_lev[0], p, beta, gamma, mass,
-                                       dof_a0, dof_motion, el_i, el_j, el_k, el_a1, g_w1, u, v, a, Av, Vv, fs, fd,
-                                       R0, du_w, u_w1, v_w1, a_w1)
-                    stats[S_DOF_STEPS] += w_hi[w] - w_lo[w]
-                # a gap between waiting buildings that may close in this step: its buildings step
-                # (a gap between a waiting and a stepping building is screened at every substep)
-                for g in range(ng):
-                    if gap_law[g] == NONE:
-                        continue
-                    apart = True
-                    for b in range(gb_lo[g], gb_hi[g]):
-                        apart = apart and not in_s[b]
-                    if not apart:
-                        continue
-                    ii = gap_i[g]
-                    jj = gap_j[g]
-                    gu, gv = _gap_ground_at(moving, gap_ground, g, step + 1)
-                    d1, r1 = _gap_deformation(u_w1, v_w1, ii, jj, gap_size[g], gu, gv)
-                    tol = LAND_TOL * max(abs(r0[g]), abs(r1)) * dt + 1e-15
-                    if _event_in_step(d0[g], r0[g], d1, r1, dt, True, tol) < 2.0:
-                        for b in range(gb_lo[g], gb_hi[g]):
-                            in_s[b] = True
-                n_wrun = _runs(in_s, False, blk_dof, blk_el, w_lo, w_hi, w_elo, w_ehi)
-                waiting = n_wrun > 0
-            if waiting:
-                stats[S_WAITING] += 1
-                if pending >= 0:  # the last output row's strain energy, over the whole row
-                    es = _strain_energy(el_i, el_j, el_k, u)
-                    out_e[pending, E_STRAIN] = es
-                    out_e[pending, E_DAMPING] -= es - es0
-                    pending = -1
+        if n_wrun > 0:
+            t_w0 = t
+            n_wrun = _waiting_step((step, t, dt), gnd, g_t, n_wrun, mr, runs, ws, waits, row, gaps, st, (d0, r0),
+                                   stats)
+            waiting = n_wrun > 0
+        if waiting:
+            stats[S_WAITING] += 1
+            if pending >= 0:  # the last output row's strain energy, over the whole row
+                es = _strain_energy(el_i, el_j, el_k, u)
+                out_e[pending, E_STRAIN] = es
+                out_e[pending, E_DAMPING] -= es - es0
+                pending = -1
         changed = False
         for b in range(nbk):
             changed = changed or in_s[b] != was_s[b]
         if changed:
-            n_run = _runs(in_s, True, blk_dof, blk_el, r_lo, r_hi, r_elo, r_ehi)
-            n_ss, n_scr = _screen_list(in_s, gb_lo, gb_hi, scr)
+            n_run, n_ss, n_scr, n_s_dof = _stepping(mr, runs)
             h_cached = -1.0  # the scratch factor covers the former stepping rows only
-            n_s_dof = 0
-            for rr in range(n_run):
-                n_s_dof += r_hi[rr] - r_lo[rr]
         while t_end - t > 1e-9 * dt:
             h, lev = _contact_step(t, t_end, dt, m_act, act_list, gap_law, hsub, age, h_lev, n_lev, 0)
             target = -1
@@ -759,38 +713,12 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
             if join_gap >= 0:
                 # ---- the waiting buildings of gap join_gap catch up to t and step from here
                 hw = t - t_w0
-                for b in range(gb_lo[join_gap], gb_hi[join_gap]):
-                    if in_s[b]:
-                        continue
-                    lo = blk_dof[b]
-                    hi = blk_dof[b + 1]
-                    if hw > 0.0 and exact:  # the catch-up step, exact too (coefficients for its length)
-                        if hw != h_ex[0]:
-                            exact_coefficients(md_w2, md_c, hw, ex_h)
-                            h_ex[0] = hw
-                        _exact_waiting(lo, hi, ex_h, g_w0, g_t, md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam,
-                                       u, v, du_w, u_w1, v_w1, a_w1, mq, mqv, mqa)
-                    elif hw > 0.0:
-                        if not _factor_range(hw, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_w,
-                                             lo, hi, blk_el[b], blk_el[b + 1]):
-                            return NEWTON_FAILED, n_imp, t
-                        stats[S_FACTORIZATIONS] += 1
-                        _waiting_trial(lo, hi, blk_el[b], blk_el[b + 1], hw, L_w, p, beta, gamma, mass, dof_a0,
-                                       dof_motion, el_i, el_j, el_k, el_a1, g_t, u, v, a, Av, Vv, fs, fd, R0,
-                                       du_w, u_w1, v_w1, a_w1)
-                    if hw > 0.0:
-                        e_in, w_int = _waiting_commit(lo, hi, mass, dof_motion, g_w0, g_t, du_w, v_w1, a_w1,
-                                                      u, v, a, fint, umax, e_in, w_int)
-                        stats[S_DOF_STEPS] += hi - lo
-                    in_s[b] = True
-                stats[S_JOINS] += 1
-                n_run = _runs(in_s, True, blk_dof, blk_el, r_lo, r_hi, r_elo, r_ehi)
+                ok, e_in, w_int = _join(join_gap, hw, g_t, mr, ws, waits, row, st, umax, (e_in, w_int), stats)
+                if not ok:
+                    return NEWTON_FAILED, n_imp, t
+                n_run, n_ss, n_scr, n_s_dof = _stepping(mr, runs)
                 n_wrun = _runs(in_s, False, blk_dof, blk_el, w_lo, w_hi, w_elo, w_ehi)
                 waiting = n_wrun > 0
-                n_ss, n_scr = _screen_list(in_s, gb_lo, gb_hi, scr)
-                n_s_dof = 0
-                for rr in range(n_run):
-                    n_s_dof += r_hi[rr] - r_lo[rr]
                 h_cached = -1.0  # the scratch factor lacks the joined rows
                 aim_gap = -1
                 s0 = hw / dt

@@ -7,8 +7,15 @@ from __future__ import annotations
 import numpy as np
 from seispound._jit import njit
 
-from ._elements import _gap_kinematics
+from ..contact.codes import NONE
+from ._elements import _gap_deformation, _gap_kinematics
+from ._events import LAND_TOL, _event_in_step
+from ._exact import exact_coefficients
+from ._free_flight import _exact_waiting
+from ._ground import _gap_ground_at
+from ._linear import _factor_range
 from ._newmark_step import _linear_trial
+from ._outputs import S_DOF_STEPS, S_FACTORIZATIONS, S_JOINS
 
 # Buildings wait (multi-rate stepping) by default only when they hold at least this share
 # of the row's DOFs: waiting costs a step, a commit and a screen of the waiting
@@ -146,3 +153,151 @@ def _screen_list(in_s, gb_lo, gb_hi, scr):
         if both:
             n_ss = n_scr
     return n_ss, n_scr
+
+
+# The phases of multi-rate stepping in the fast driver (``_kernel.integrate_kernel``).  Their tuples:
+# mr = (blk_dof, blk_el, dof_blk, gb_lo, gb_hi, in_s, was_s, scr): each building's first DOF and element
+# (nb + 1,), each DOF's building (n,), the buildings each gap links (ng,), who steps now and before (nb,)
+# bool, the gaps screened (``_screen_list``); runs = (r_lo, r_hi, r_elo, r_ehi, w_lo, w_hi, w_elo, w_ehi):
+# the stepping and the waiting buildings' DOF and element runs (``_runs``); ws = (g_w0, g_w1, du_w, u_w1,
+# v_w1, a_w1, L_w, zero_n): the waiting step (ground accelerations at its ends (nm,) [m/s^2], increment
+# and end state (n,), the factor of a catch-up step, zeros); waits = (exact, ex_co, ex_h, h_ex, md, mqs,
+# L0, p, beta, gamma, scratch): how a waiting building steps (exact modal steps with the coefficients
+# ex_co for dt and ex_h for the last other size h_ex[0], md the modal basis, mqs its coordinates; else
+# Newmark with the level-0 factor L0 of half bandwidth p; scratch = (Av, Vv, R0) (n,) work arrays).
+
+
+@njit(cache=True)
+def _who_steps(m_act, act_list, multirate, wait_share, mr, runs):
+    """Which buildings take this analysis step's substeps: with multi-rate stepping and some gap closed,
+    the buildings of the closed gaps' groups, provided the others hold at least ``wait_share`` of the
+    DOFs; every building otherwise.  Sets in_s (was_s keeps the last), fills the waiting runs and returns
+    their number."""
+    blk_dof, blk_el, gb_lo, gb_hi, in_s, was_s = mr[0], mr[1], mr[3], mr[4], mr[5], mr[6]
+    w_lo, w_hi, w_elo, w_ehi = runs[4], runs[5], runs[6], runs[7]
+    nbk = blk_dof.size - 1
+    some = multirate and m_act > 0
+    for b in range(nbk):
+        was_s[b] = in_s[b]
+        in_s[b] = not some
+    if not some:
+        return 0
+    for q in range(m_act):
+        g = act_list[q]
+        for b in range(gb_lo[g], gb_hi[g]):
+            in_s[b] = True
+    n_wrun = _runs(in_s, False, blk_dof, blk_el, w_lo, w_hi, w_elo, w_ehi)
+    n_w_dof = 0
+    for w in range(n_wrun):
+        n_w_dof += w_hi[w] - w_lo[w]
+    if n_w_dof < wait_share * blk_dof[nbk]:  # too few would wait to pay for the bookkeeping: all step
+        for b in range(nbk):
+            in_s[b] = True
+        n_wrun = 0
+    return n_wrun
+
+
+@njit(cache=True)
+def _waiting_step(clock, gnd, g_t, n_wrun, mr, runs, ws, waits, row, gaps, st, dr, stats):
+    """The waiting buildings take the whole analysis step at once (exact modal steps, or Newmark with the
+    level-0 factor); a gap between two of them that may close in that step makes its buildings step
+    instead.  clock = (step, t, dt); gnd = (ag, moving, gap_ground); dr = (d0, r0) the gaps' state at t.
+    Returns the number of waiting runs left."""
+    step, t, dt = clock
+    ag, moving, gap_ground = gnd
+    blk_dof, blk_el, gb_lo, gb_hi, in_s = mr[0], mr[1], mr[3], mr[4], mr[5]
+    w_lo, w_hi, w_elo, w_ehi = runs[4], runs[5], runs[6], runs[7]
+    g_w0, g_w1, du_w, u_w1, v_w1, a_w1 = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5]
+    exact, ex_co, md, mqs, L0, p, beta, gamma = waits[0], waits[1], waits[4], waits[5], waits[6], waits[7], \
+        waits[8], waits[9]
+    Av, Vv, R0 = waits[10]
+    md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam = md
+    mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1 = row
+    gap_i, gap_j, gap_size, gap_law = gaps[0], gaps[1], gaps[4], gaps[5]
+    u, v, a, fs, fd = st[0], st[1], st[2], st[4], st[5]
+    d0, r0 = dr
+    for r in range(ag.shape[0]):
+        g_w0[r] = g_t[r]
+        g_w1[r] = ag[r, step + 1]
+    for w in range(n_wrun):
+        if exact:  # exact for the piecewise-linear ground motion, as in free flight
+            _exact_waiting(w_lo[w], w_hi[w], ex_co, g_w0, g_w1, md_start, md_phi_t, md_phi_tm, md_w2,
+                           md_c, md_gam, u, v, du_w, u_w1, v_w1, a_w1, mqs[0], mqs[1], mqs[2])
+        else:
+            _waiting_trial(w_lo[w], w_hi[w], w_elo[w], w_ehi[w], dt, L0, p, beta, gamma, mass,
+                           dof_a0, dof_motion, el_i, el_j, el_k, el_a1, g_w1, u, v, a, Av, Vv, fs, fd,
+                           R0, du_w, u_w1, v_w1, a_w1)
+        stats[S_DOF_STEPS] += w_hi[w] - w_lo[w]
+    # a gap between waiting buildings that may close in this step: its buildings step
+    # (a gap between a waiting and a stepping building is screened at every substep)
+    for g in range(gap_size.size):
+        if gap_law[g] == NONE:
+            continue
+        apart = True
+        for b in range(gb_lo[g], gb_hi[g]):
+            apart = apart and not in_s[b]
+        if not apart:
+            continue
+        gu, gv = _gap_ground_at(moving, gap_ground, g, step + 1)
+        d1, r1 = _gap_deformation(u_w1, v_w1, gap_i[g], gap_j[g], gap_size[g], gu, gv)
+        tol = LAND_TOL * max(abs(r0[g]), abs(r1)) * dt + 1e-15
+        if _event_in_step(d0[g], r0[g], d1, r1, dt, True, tol) < 2.0:
+            for b in range(gb_lo[g], gb_hi[g]):
+                in_s[b] = True
+    return _runs(in_s, False, blk_dof, blk_el, w_lo, w_hi, w_elo, w_ehi)
+
+
+@njit(cache=True)
+def _stepping(mr, runs):
+    """The stepping buildings' runs and the gaps screened, after in_s changed: returns (stepping runs,
+    gaps linking stepping buildings only, gaps screened, stepping DOFs)."""
+    blk_dof, blk_el, gb_lo, gb_hi, in_s, scr = mr[0], mr[1], mr[3], mr[4], mr[5], mr[7]
+    r_lo, r_hi, r_elo, r_ehi = runs[0], runs[1], runs[2], runs[3]
+    n_run = _runs(in_s, True, blk_dof, blk_el, r_lo, r_hi, r_elo, r_ehi)
+    n_ss, n_scr = _screen_list(in_s, gb_lo, gb_hi, scr)
+    n_s_dof = 0
+    for rr in range(n_run):
+        n_s_dof += r_hi[rr] - r_lo[rr]
+    return n_run, n_ss, n_scr, n_s_dof
+
+
+@njit(cache=True)
+def _join(join_gap, hw, g_t, mr, ws, waits, row, st, umax, energy, stats):
+    """The waiting buildings of gap join_gap catch up from the waiting step's start to now (a step of hw
+    [s], exact or Newmark with its own factor) and step with the others from here.  energy = (e_in, w_int)
+    [J]; returns (factored, e_in, w_int)."""
+    e_in, w_int = energy
+    blk_dof, blk_el, gb_lo, gb_hi, in_s = mr[0], mr[1], mr[3], mr[4], mr[5]
+    g_w0, du_w, u_w1, v_w1, a_w1, L_w = ws[0], ws[2], ws[3], ws[4], ws[5], ws[6]
+    exact, ex_h, h_ex, md, mqs, p, beta, gamma = waits[0], waits[2], waits[3], waits[4], waits[5], waits[7], \
+        waits[8], waits[9]
+    Av, Vv, R0 = waits[10]
+    md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam = md
+    mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1 = row
+    u, v, a, fint, fs, fd = st
+    for b in range(gb_lo[join_gap], gb_hi[join_gap]):
+        if in_s[b]:
+            continue
+        lo = blk_dof[b]
+        hi = blk_dof[b + 1]
+        if hw > 0.0 and exact:  # the catch-up step, exact too (coefficients for its length)
+            if hw != h_ex[0]:
+                exact_coefficients(md_w2, md_c, hw, ex_h)
+                h_ex[0] = hw
+            _exact_waiting(lo, hi, ex_h, g_w0, g_t, md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam,
+                           u, v, du_w, u_w1, v_w1, a_w1, mqs[0], mqs[1], mqs[2])
+        elif hw > 0.0:
+            if not _factor_range(hw, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_w,
+                                 lo, hi, blk_el[b], blk_el[b + 1]):
+                return False, e_in, w_int
+            stats[S_FACTORIZATIONS] += 1
+            _waiting_trial(lo, hi, blk_el[b], blk_el[b + 1], hw, L_w, p, beta, gamma, mass, dof_a0,
+                           dof_motion, el_i, el_j, el_k, el_a1, g_t, u, v, a, Av, Vv, fs, fd, R0,
+                           du_w, u_w1, v_w1, a_w1)
+        if hw > 0.0:
+            e_in, w_int = _waiting_commit(lo, hi, mass, dof_motion, g_w0, g_t, du_w, v_w1, a_w1,
+                                          u, v, a, fint, umax, e_in, w_int)
+            stats[S_DOF_STEPS] += hi - lo
+        in_s[b] = True
+    stats[S_JOINS] += 1
+    return True, e_in, w_int

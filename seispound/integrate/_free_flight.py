@@ -108,12 +108,14 @@ def _march_exact(k0, k1, P, co, md_c, md_w2, mq, mqv, mqa, Q, QV, QA, DQ):
 
 
 @njit(cache=True)
-def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
-                 md_start, md_blocks_t, md_block_off, md_phi_t, md_w2, md_c, md_gam, md_khinv, s_in, s_out,
-                 mq, mqv, mqa, Q, QV, QA, DQ, P, U, V, f_start, Eb,
-                 dof_motion, gap_i, gap_j, gap_size, gap_law, moving, gap_ground, exact, ex_co, d0, r0,
-                 u, v, a, umax, out_u, out_v, out_a, out_f, out_e, e_in, w_int, e_cont, es0):
+def _free_flight(step0, nsteps, nblk, store, nmk, gnd, mdb, blocks, row, gaps, exact_co, dr, st, outs, energy):
     """March up to ``nblk`` analysis steps from step0 with every gap open, in modal coordinates.
+
+    Tuples (``_kernel.integrate_kernel``'s): nmk = (dt [s], beta, gamma); gnd = (ag, moving, gap_ground);
+    mdb = (md_start, md_blocks_t, md_block_off, md_phi_t, md_w2, md_c, md_gam, md_khinv) the modal basis;
+    blocks = (s_in, s_out, mq, mqv, mqa, Q, QV, QA, DQ, P, U, V, f_start, Eb) the modal state and block work
+    arrays; row, gaps, st, outs as the kernel's; exact_co = (exact, ex_co); dr = (d0, r0) the gaps'
+    penetration and rate, carried; energy = (e_in, w_int, e_cont, es0) [J].
 
     The modal state (mq, mqv, mqa) at step0 advances by the Newmark recurrence
     of each mode (``modal.py``: exact Newmark, no solve) or, with ``exact``, by
@@ -129,6 +131,17 @@ def _free_flight(step0, nsteps, nblk, dt, beta, gamma, ag, store,
     its gap, e_in, w_int).  After an event the modal state is stale (it ran on
     to the block's end).
     """
+    dt, beta, gamma = nmk
+    ag, moving, gap_ground = gnd
+    md_start, md_blocks_t, md_block_off, md_phi_t, md_w2, md_c, md_gam, md_khinv = mdb
+    s_in, s_out, mq, mqv, mqa, Q, QV, QA, DQ, P, U, V, f_start, Eb = blocks
+    dof_motion = row[2]
+    gap_i, gap_j, gap_size, gap_law = gaps[0], gaps[1], gaps[4], gaps[5]
+    exact, ex_co = exact_co
+    d0, r0 = dr
+    u, v, a = st[0], st[1], st[2]
+    out_u, out_v, out_a, out_f, out_e, umax = outs[0], outs[1], outs[2], outs[3], outs[4], outs[5]
+    e_in, w_int, e_cont, es0 = energy
     n = mq.size
     ng = gap_size.size
     nm = ag.shape[0]

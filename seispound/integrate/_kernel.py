@@ -217,7 +217,6 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     tri = p <= 1
     sig_h = np.empty(n if tri else 1)
     Sd_h = np.empty(n if tri else 1)
-    inv_ok = False
     # Woodbury columns K_hat^-1 b_g for the current factor: nonzero only on the
     # DOFs gap_lo[g]..gap_hi[g]-1 of the two buildings the gap links (zero elsewhere)
     # (two sets: the level factor's, which survive an odd located step in
@@ -227,8 +226,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     batch = np.empty(ngw, np.int64)
     Wc_ok_level = np.zeros(ngw, np.bool_)
     Wc_ok_scratch = np.zeros(ngw, np.bool_)
-    Wc_lev = -2
-    Wc_h = -1.0
+    wc_key = np.array([-2.0, -1.0, 0.0])  # the level and the step the cached columns are for; inverse ok?
     dofs = np.empty(2 * ngw, np.int64)
     order = np.empty(2 * ngw, np.int64)
     pos = np.empty(2 * ngw, np.int64)
@@ -342,7 +340,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
               act_list, comp_off, toggles, land_too, active, st_c, st_t, hsub, age, cur_imp, F, F1, F_old, h_old, kt, d0,
               r0, d_end, r_end, gk, g_t, dof_blk, gb_lo, gb_hi, in_s, was_s, r_lo, r_hi, r_elo, r_ehi,
               w_lo, w_hi, w_elo, w_ehi, scr, g_w0, g_w1, du_w, u_w1, v_w1, a_w1, L_w, zero_n, g_1, mq, mqv, mqa, Qb,
-              QVb, QAb, DQb, Pb, Ub, Vb, f_start, s_in, s_out, Eb, md_khinv)
+              QVb, QAb, DQb, Pb, Ub, Vb, f_start, s_in, s_out, Eb, md_khinv, wc_key)
+    wc_key = borrow(wc_key)
     L_lev, have_lev, h_lev, L_h, u = borrow(L_lev), borrow(have_lev), borrow(h_lev), borrow(L_h), borrow(u)
     v, a, fint, fs, fd, Du, R0 = borrow(v), borrow(a), borrow(fint), borrow(fs), borrow(fd), borrow(Du), borrow(R0)
     Av, Vv, sig_h, Sd_h, Wc_level = borrow(Av), borrow(Vv), borrow(sig_h), borrow(Sd_h), borrow(Wc_level)
@@ -376,11 +375,14 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     md = (md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam)  # the modal basis, for exact steps
     waits = (exact, ex_co, ex_h, h_ex, md, (mq, mqv, mqa), L_lev[0], p, beta, gamma, (Av, Vv, R0))
     gnd = (ag, moving, gap_ground)
+    wc = (Wc_level, Wc_ok_level, Wc_scratch, Wc_ok_scratch, wc_key, batch)  # Woodbury columns, per factor
+    semi = (sig_h, Sd_h, dofs, order, pos, span, Kd, xs)  # the semiseparable inverse of the scratch factor
+    nwt = (Gm, dl, rl, Fm, resv, kt, Sm, ym, gap_law, gap_par, st_c, st_t)  # the contact Newton's work
+    mdb = (md_start, md_blocks_t, md_block_off, md_phi_t, md_w2, md_c, md_gam, md_khinv)  # ... free flight's
+    blocks = (s_in, s_out, mq, mqv, mqa, Qb, QVb, QAb, DQb, Pb, Ub, Vb, f_start, Eb)  # its block work arrays
 
     if not _factor(dt, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[0]):
         return NEWTON_FAILED, 0, 0.0
-    Wc = Wc_level  # the current factor's Woodbury columns
-    Wc_ok = Wc_ok_level
     have_lev[0] = True
     stats[S_FACTORIZATIONS] += 1
     h_cached = -1.0
@@ -413,11 +415,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 out_e[pending, E_DAMPING] -= es - es0
                 pending = -1
             n_acc, event, th_hint, g_hint, e_in, w_int = _free_flight(
-                step, nsteps, min(blk, nblk), dt, beta, gamma, ag, store,
-                md_start, md_blocks_t, md_block_off, md_phi_t, md_w2, md_c, md_gam, md_khinv, s_in, s_out,
-                mq, mqv, mqa, Qb, QVb, QAb, DQb, Pb, Ub, Vb, f_start, Eb,
-                dof_motion, gap_i, gap_j, gap_size, gap_law, moving, gap_ground, exact, ex_co, d0, r0,
-                u, v, a, umax, out_u, out_v, out_a, out_f, out_e, e_in, w_int, e_cont, es0)
+                step, nsteps, min(blk, nblk), store, (dt, beta, gamma), gnd, mdb, blocks, row, gaps, (exact, ex_co),
+                (d0, r0), st, outs, (e_in, w_int, e_cont, es0))
             stats[S_STEPS] += n_acc
             stats[S_FREE_FLIGHT] += n_acc
             stats[S_DOF_STEPS] += n_acc * n
@@ -503,7 +502,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                                 return NEWTON_FAILED, n_imp, t
                         stats[S_FACTORIZATIONS] += 1
                         h_cached = h
-                        inv_ok = False
+                        wc_key[2] = 0.0  # its semiseparable inverse is stale
                     Lf = L_h
                 cm = 1.0 / (beta * h * h)
                 cc = gamma / (beta * h)
@@ -534,93 +533,11 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 # ---- CONTACT NEWTON on the forces of the closed gaps (condensed through K_hat^-1)
                 converged = m_act == 0
                 if m_act > 0:
-                    # G = B^T K_hat^-1 B on the gaps in contact.  A level factor
-                    # (or a wider band) keeps Woodbury columns K_hat^-1 b_g, cached
-                    # per factor, that serve every step of that size; a located
-                    # step's one-off factor, with several gaps closed, takes G from
-                    # the semiseparable inverse in O(n + m^2) instead of m new
-                    # columns in O(n m).
-                    columns = lv >= 0 or not tri or m_act < SEMISEPARABLE_GAPS
-                    if not columns:  # the scratch factor L_h
-                        if not inv_ok:
-                            for rr in range(n_run):
-                                _inverse_diagonals_range(L_h, p, sig_h, Sd_h, r_lo[rr], r_hi[rr])
-                            inv_ok = True
-                        for c in range(n_comp):  # G's diagonal blocks, one group at a time
-                            _compliance_tridiagonal(comp_off[c], comp_off[c + 1], act_list, gap_i, gap_j, sig_h, Sd_h,
-                                                    Gm, dofs, order, pos, span, Kd)
-                    elif lv >= 0:
-                        if lv != Wc_lev:
-                            for g in range(ngw):
-                                Wc_ok_level[g] = False
-                            Wc_lev = lv
-                        Wc = Wc_level
-                        Wc_ok = Wc_ok_level
-                    else:
-                        if h != Wc_h:
-                            for g in range(ngw):
-                                Wc_ok_scratch[g] = False
-                            Wc_h = h
-                        Wc = Wc_scratch
-                        Wc_ok = Wc_ok_scratch
-                    for q in range(m_act if columns else 0):
-                        g = act_list[q]
-                        if not Wc_ok[g]:
-                            # every missing column on the same blocks, solved together
-                            nr = 0
-                            for q2 in range(q, m_act):
-                                g2 = act_list[q2]
-                                if not Wc_ok[g2] and gap_lo[g2] == gap_lo[g] and gap_hi[g2] == gap_hi[g]:
-                                    batch[nr] = g2
-                                    nr += 1
-                                    Wc_ok[g2] = True
-                            _woodbury_columns(Lf, p, Wc, batch, nr, gap_lo[g], gap_hi[g], gap_i, gap_j)
-                    # Condensation on the gaps in contact (module docstring): the
-                    # Newton iteration runs on their forces F alone.
-                    scale = 0.0
-                    if waiting:
-                        for rr in range(n_run):
-                            for i in range(np.uint64(r_lo[rr]), np.uint64(r_hi[rr])):
-                                scale = max(scale, abs(R0[i]))
-                    else:
-                        for i in range(n):
-                            scale = max(scale, abs(R0[i]))
-                    for q in range(m_act):
-                        g = act_list[q]
-                        ii = gap_i[g]
-                        jj = gap_j[g]
-                        dl[q], rl[q] = _gap_trial(u, Du, Vv, cc, ii, jj, gap_size[g], gk[GU1, g], gk[GV1, g])
-                        Fm[q] = F[g]  # start from the force at the start of the step,
-                        if age[g] >= 1:  # extrapolated along the last accepted substep
-                            Fm[q] += (F[g] - F_old[g]) * (h / h_old[g])
-                    if columns:  # G is block diagonal over the groups: fill the blocks only
-                        for c in range(n_comp):
-                            for q in range(comp_off[c], comp_off[c + 1]):
-                                g = act_list[q]
-                                ii = gap_i[g]
-                                jj = gap_j[g]
-                                for r in range(comp_off[c], comp_off[c + 1]):
-                                    gr = act_list[r]
-                                    Gm[q, r] = Wc[gr, ii] - Wc[gr, jj]
-                    # one Newton iteration per independent group: O(sum m_c^3), not O(m^3)
-                    converged = True
-                    it = 0
-                    for c in range(n_comp):
-                        ok_c, it_c = _newton(comp_off[c], comp_off[c + 1], act_list, Gm, dl, rl, Fm, cc,
-                                             gap_law, gap_par, st_c, st_t, scale, rtol, max_iter, resv, kt, Sm, ym)
-                        converged = converged and ok_c
-                        it = max(it, it_c)
-                        if not ok_c:
-                            break
+                    converged, it = _contact_newton((lv, h, cc, waiting), (Lf, L_h, p, n_run, runs),
+                                                    (m_act, act_list, n_comp, comp_off), wc, semi, gaps,
+                                                    (u, Du, Vv, R0, gk), (F, F1, F_old, h_old), age, nwt,
+                                                    (rtol, max_iter), stats)
                     stats[S_ITERATIONS] += it
-                    for q in range(m_act):
-                        g = act_list[q]
-                        F1[g] = Fm[q]
-                        if columns and Fm[q] != 0.0:
-                            for i in range(np.uint64(gap_lo[g]), np.uint64(gap_hi[g])):
-                                Du[i] -= Fm[q] * Wc[g, i]
-                    if not columns:
-                        _subtract_contact(L_h, p, m_act, act_list, gap_i, gap_j, gap_lo, gap_hi, Fm, xs, Du)
                     if it > stats[S_MAX_ITER]:
                         stats[S_MAX_ITER] = it
                 if not converged:
@@ -968,3 +885,112 @@ def _output_row(k, st, g_t, row, F, outs, energy):
     out_e[k, E_KINETIC] = ek
     out_e[k, E_DAMPING] = w_int  # strain energy subtracted when K u is next formed
     out_e[k, E_CONTACT] = e_cont
+
+
+@njit(cache=True)
+def _contact_newton(kind, lin, act, wc, semi, gaps, trial, gf, age, nwt, opts, stats):
+    """Newton-Raphson on the closed gaps' forces, condensed through K_hat^-1 (module docstring), one
+    iteration per independent group; the increment Du then loses the contact forces' share.
+
+    G = B^T K_hat^-1 B on the gaps in contact: a level factor (or a wider band) keeps Woodbury columns
+    K_hat^-1 b_g, cached per factor, that serve every step of that size; a located step's one-off factor,
+    with several gaps closed, takes G from the semiseparable inverse in O(n + m^2) instead of m new
+    columns in O(n m).
+
+    kind = (grid level or -1, h [s], gamma/(beta h) [1/s], some building waits); lin = (the factor Lf, the
+    scratch factor L_h, half bandwidth, stepping runs, runs); act = (gaps closed, their list, groups, group
+    offsets); wc = (columns and their flags for the level and the scratch factor, key (3,): the level and
+    the step they are for and whether the semiseparable inverse is current, batch); semi = (sig_h, Sd_h,
+    dofs, order, pos, span, Kd, xs); trial = (u, Du, Vv, R0, gk); gf = (F, F1, F_old, h_old); nwt = (Gm, dl,
+    rl, Fm, resv, kt, Sm, ym, gap_law, gap_par, st_c, st_t); opts = (rtol, max_iter).
+    Returns (converged, iterations); F1 holds the forces [N]."""
+    lv, h, cc, waiting = kind
+    Lf, L_h, p, n_run, runs = lin
+    m_act, act_list, n_comp, comp_off = act
+    Wc_level, Wc_ok_level, Wc_scratch, Wc_ok_scratch, wc_key, batch = wc
+    sig_h, Sd_h, dofs, order, pos, span, Kd, xs = semi
+    gap_i, gap_j, gap_lo, gap_hi, gap_size = gaps[0], gaps[1], gaps[2], gaps[3], gaps[4]
+    u, Du, Vv, R0, gk = trial
+    F, F1, F_old, h_old = gf
+    Gm, dl, rl, Fm, resv, kt, Sm, ym, gap_law, gap_par, st_c, st_t = nwt
+    rtol, max_iter = opts
+    r_lo, r_hi = runs[0], runs[1]
+    ngw = batch.size
+    columns = lv >= 0 or p > 1 or m_act < SEMISEPARABLE_GAPS
+    Wc = Wc_level
+    Wc_ok = Wc_ok_level
+    if not columns:  # the scratch factor L_h
+        if wc_key[2] == 0.0:
+            for rr in range(n_run):
+                _inverse_diagonals_range(L_h, p, sig_h, Sd_h, r_lo[rr], r_hi[rr])
+            wc_key[2] = 1.0
+        for c in range(n_comp):  # G's diagonal blocks, one group at a time
+            _compliance_tridiagonal(comp_off[c], comp_off[c + 1], act_list, gap_i, gap_j, sig_h, Sd_h,
+                                    Gm, dofs, order, pos, span, Kd)
+    elif lv >= 0:
+        if lv != wc_key[0]:
+            for g in range(ngw):
+                Wc_ok_level[g] = False
+            wc_key[0] = lv
+    else:
+        if h != wc_key[1]:
+            for g in range(ngw):
+                Wc_ok_scratch[g] = False
+            wc_key[1] = h
+        Wc = Wc_scratch
+        Wc_ok = Wc_ok_scratch
+    for q in range(m_act if columns else 0):
+        g = act_list[q]
+        if not Wc_ok[g]:
+            # every missing column on the same blocks, solved together
+            nr = 0
+            for q2 in range(q, m_act):
+                g2 = act_list[q2]
+                if not Wc_ok[g2] and gap_lo[g2] == gap_lo[g] and gap_hi[g2] == gap_hi[g]:
+                    batch[nr] = g2
+                    nr += 1
+                    Wc_ok[g2] = True
+            _woodbury_columns(Lf, p, Wc, batch, nr, gap_lo[g], gap_hi[g], gap_i, gap_j)
+    # Newton on the closed gaps' forces alone, scaled by the largest residual of the predictor
+    scale = 0.0
+    if waiting:
+        for rr in range(n_run):
+            for i in range(np.uint64(r_lo[rr]), np.uint64(r_hi[rr])):
+                scale = max(scale, abs(R0[i]))
+    else:
+        for i in range(u.size):
+            scale = max(scale, abs(R0[i]))
+    for q in range(m_act):
+        g = act_list[q]
+        dl[q], rl[q] = _gap_trial(u, Du, Vv, cc, gap_i[g], gap_j[g], gap_size[g], gk[GU1, g], gk[GV1, g])
+        Fm[q] = F[g]  # start from the force at the start of the step,
+        if age[g] >= 1:  # extrapolated along the last accepted substep
+            Fm[q] += (F[g] - F_old[g]) * (h / h_old[g])
+    if columns:  # G is block diagonal over the groups: fill the blocks only
+        for c in range(n_comp):
+            for q in range(comp_off[c], comp_off[c + 1]):
+                g = act_list[q]
+                ii = gap_i[g]
+                jj = gap_j[g]
+                for r in range(comp_off[c], comp_off[c + 1]):
+                    gr = act_list[r]
+                    Gm[q, r] = Wc[gr, ii] - Wc[gr, jj]
+    # one Newton iteration per independent group: O(sum m_c^3), not O(m^3)
+    converged = True
+    it = 0
+    for c in range(n_comp):
+        ok_c, it_c = _newton(comp_off[c], comp_off[c + 1], act_list, Gm, dl, rl, Fm, cc,
+                             gap_law, gap_par, st_c, st_t, scale, rtol, max_iter, resv, kt, Sm, ym)
+        converged = converged and ok_c
+        it = max(it, it_c)
+        if not ok_c:
+            break
+    for q in range(m_act):
+        g = act_list[q]
+        F1[g] = Fm[q]
+        if columns and Fm[q] != 0.0:
+            for i in range(np.uint64(gap_lo[g]), np.uint64(gap_hi[g])):
+                Du[i] -= Fm[q] * Wc[g, i]
+    if not columns:
+        _subtract_contact(L_h, p, m_act, act_list, gap_i, gap_j, gap_lo, gap_hi, Fm, xs, Du)
+    return converged, it

@@ -378,6 +378,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     wc = (Wc_level, Wc_ok_level, Wc_scratch, Wc_ok_scratch, wc_key, batch)  # Woodbury columns, per factor
     semi = (sig_h, Sd_h, dofs, order, pos, span, Kd, xs)  # the semiseparable inverse of the scratch factor
     nwt = (Gm, dl, rl, Fm, resv, kt, Sm, ym, gap_law, gap_par, st_c, st_t)  # the contact Newton's work
+    fac = (L_lev, have_lev, L_h)  # K_hat's factors: per dt/2^k level, and a scratch one
+    gf = (F, F1, F_old, h_old)  # the closed gaps' forces: at t, trial, and the last accepted substep's
     mdb = (md_start, md_blocks_t, md_block_off, md_phi_t, md_w2, md_c, md_gam, md_khinv)  # ... free flight's
     blocks = (s_in, s_out, mq, mqv, mqa, Qb, QVb, QAb, DQb, Pb, Ub, Vb, f_start, Eb)  # its block work arrays
 
@@ -487,23 +489,10 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 # exact step with every gap open: the modal step needs no solve)
                 modal_step = exact and m_act == 0
                 lv, h = _grid_level(h, lev, h_lev, dt)
-                if lv >= 0:
-                    if not have_lev[lv] and not modal_step:
-                        if not _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[lv]):
-                            return NEWTON_FAILED, n_imp, t
-                        have_lev[lv] = True
-                        stats[S_FACTORIZATIONS] += 1
-                    Lf = L_lev[lv]
-                elif not modal_step:
-                    if abs(h - h_cached) > 1e-14 * h:
-                        for rr in range(n_run):  # the stepping buildings' rows
-                            if not _factor_range(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_h,
-                                                 r_lo[rr], r_hi[rr], r_elo[rr], r_ehi[rr]):
-                                return NEWTON_FAILED, n_imp, t
-                        stats[S_FACTORIZATIONS] += 1
-                        h_cached = h
-                        wc_key[2] = 0.0  # its semiseparable inverse is stale
-                    Lf = L_h
+                ok, Lf, h_cached = _factor_for(lv, h, modal_step, h_cached, fac, row, p, (beta, gamma), runs, n_run,
+                                               wc_key, stats)
+                if not ok:
+                    return NEWTON_FAILED, n_imp, t
                 cm = 1.0 / (beta * h * h)
                 cc = gamma / (beta * h)
                 if h == dt and t == step * dt:  # a whole analysis step: on the record's grid
@@ -535,7 +524,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                 if m_act > 0:
                     converged, it = _contact_newton((lv, h, cc, waiting), (Lf, L_h, p, n_run, runs),
                                                     (m_act, act_list, n_comp, comp_off), wc, semi, gaps,
-                                                    (u, Du, Vv, R0, gk), (F, F1, F_old, h_old), age, nwt,
+                                                    (u, Du, Vv, R0, gk), gf, age, nwt,
                                                     (rtol, max_iter), stats)
                     stats[S_ITERATIONS] += it
                     if it > stats[S_MAX_ITER]:
@@ -554,40 +543,9 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     jj = gap_j[target]
                     dtg, rtg = _gap_trial(u, Du, Vv, cc, ii, jj, gap_size[target], gk[GU1, target], gk[GV1, target])
                     landed = abs(dtg) <= LAND_TOL * max(abs(rtg), abs(r0[target])) * h + 1e-15
-                if waiting:
-                    # gaps with a waiting side (scr[n_ss:]): it moves along its own step's
-                    # trajectory (``_waiting_state``), here at the end of this substep;
-                    # Hermite weights inline, once per attempt, in a loop of their own (the main
-                    # screen stays lean); calling _gap_state per gap instead, even inlined, made
-                    # 4 x 10 storeys 12 % slower in same-process A/B (it recomputes them per side)
-                    s1 = (t + h - t_w0) / dt
-                    s2 = s1 * s1
-                    s3 = s2 * s1
-                    wu0 = 2 * s3 - 3 * s2 + 1
-                    wv0 = (s3 - 2 * s2 + s1) * dt
-                    wu1 = -2 * s3 + 3 * s2
-                    wv1 = (s3 - s2) * dt
-                    xu = (6 * s2 - 6 * s1) / dt  # derivative: xd = xu (u0 - u1) + xv0 v0 + xv1 v1
-                    xv0 = 3 * s2 - 4 * s1 + 1
-                    xv1 = 3 * s2 - 2 * s1
-                    for qq in range(n_ss, n_scr):
-                        g = scr[qq]
-                        ii = np.uint64(gap_i[g])
-                        jj = np.uint64(gap_j[g])
-                        if in_s[dof_blk[ii]]:
-                            xi = u[ii] + Du[ii]
-                            vi = Vv[ii] + cc * Du[ii]
-                        else:
-                            xi = wu0 * u[ii] + wv0 * v[ii] + wu1 * u_w1[ii] + wv1 * v_w1[ii]
-                            vi = xu * (u[ii] - u_w1[ii]) + xv0 * v[ii] + xv1 * v_w1[ii]
-                        if in_s[dof_blk[jj]]:
-                            xj = u[jj] + Du[jj]
-                            vj = Vv[jj] + cc * Du[jj]
-                        else:
-                            xj = wu0 * u[jj] + wv0 * v[jj] + wu1 * u_w1[jj] + wv1 * v_w1[jj]
-                            vj = xu * (u[jj] - u_w1[jj]) + xv0 * v[jj] + xv1 * v_w1[jj]
-                        d_end[g], r_end[g] = _gap_kinematics(xi, 0.0, xj, 0.0, vi, 0.0, vj, 0.0, gap_size[g],
-                                                             gk[GU1, g], gk[GV1, g])
+                if waiting:  # gaps with a waiting side: it moves along its own step's trajectory
+                    _screen_waiting((t + h - t_w0) / dt, dt, cc, mr, n_ss, n_scr, gaps, (u, v, Du, Vv), ws, gk,
+                                    (d_end, r_end))
                 # screen every gap (or, while some building waits, those in the list scr: the
                 # gaps with a stepping side; scr[n_ss:] have a waiting side, computed above)
                 theta, g_ev, ev_waits, n_land = _screen_step(
@@ -611,17 +569,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
                     # every gap whose event is at the current time switches now, together
                     # (identical floors touch at once: one attempt, not one per gap)
                     # (a second pass over the gaps' end states: rare, so not kept in the first)
-                    n_tog = 0
-                    for qq in range(n_scr):
-                        g = scr[qq]
-                        if gap_law[g] == NONE or (landed and g == target):
-                            continue
-                        if qq >= n_ss:
-                            continue  # a waiting side: found again in the next attempt, and it joins then
-                        tol = LAND_TOL * max(abs(r0[g]), abs(r_end[g])) * h + 1e-15
-                        if _event_in_step(d0[g], r0[g], d_end[g], r_end[g], h, not active[g], tol) * h < hmin:
-                            toggles[n_tog] = g
-                            n_tog += 1
+                    n_tog = _at_once(h, hmin, scr, n_ss, n_scr, gaps, cs, (d0, r0, d_end, r_end), landed, target,
+                                     toggles)
                     toggle_now = g_ev
                     located = True
                     break
@@ -650,32 +599,8 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
             if toggle_now < 0:
                 # ======== ACCEPT / COMMIT: energy, state, peaks, contact forces ========
                 stats[S_STEPS] += 1
-                if waiting:
-                    for rr in range(n_run):
-                        e_in, w_int = _accept_rows(r_lo[rr], r_hi[rr], cm, cc, mass, dof_motion, g_t, g_1, Du, Av, Vv,
-                                                   fint, u, v, a, umax, e_in, w_int)
-                else:
-                    e_in, w_int = _accept_rows(0, n, cm, cc, mass, dof_motion, g_t, g_1, Du, Av, Vv,
-                                               fint, u, v, a, umax, e_in, w_int)
-                for q in range(m_act):
-                    gq = act_list[q]
-                    ii = gap_i[gq]
-                    jj = gap_j[gq]
-                    age[gq] += 1
-                    w_int -= 0.5 * F1[gq] * (Du[ii] - Du[jj])
-                    fint[ii] -= F1[gq]
-                    fint[jj] += F1[gq]
-                    e_cont += 0.5 * (F[gq] + F1[gq]) * (Du[ii] - Du[jj])
-                    # the force's peak between the last three samples of this impact
-                    fpk = _peak_through(F_old[gq], F[gq], F1[gq], h_old[gq], h) if age[gq] >= 2 else F1[gq]
-                    fpk = max(fpk, F1[gq])
-                    F_old[gq] = F[gq]
-                    h_old[gq] = h
-                    F[gq] = F1[gq]
-                    if fpk > fmax[gq]:
-                        fmax[gq] = fpk
-                    if fpk > imp_fmax[cur_imp[gq]]:
-                        imp_fmax[cur_imp[gq]] = fpk
+                e_in, w_int, e_cont = _accept(h, (cm, cc), (g_t, g_1), (Du, Av, Vv), st, row, gaps, gf, cs, cat,
+                                              outs, (m_act, act_list), (waiting, n_run, runs), (e_in, w_int, e_cont))
                 if waiting:
                     for qq in range(n_scr):  # (the other gaps link waiting buildings only)
                         g = scr[qq]
@@ -994,3 +919,143 @@ def _contact_newton(kind, lin, act, wc, semi, gaps, trial, gf, age, nwt, opts, s
     if not columns:
         _subtract_contact(L_h, p, m_act, act_list, gap_i, gap_j, gap_lo, gap_hi, Fm, xs, Du)
     return converged, it
+
+
+@njit(cache=True)
+def _factor_for(lv, h, modal_step, h_cached, fac, row, p, nb, runs, n_run, wc_key, stats):
+    """K_hat(h)'s factor for a step of h [s]: the level's (lv >= 0: h = dt / 2^lv, factored once), the scratch
+    factor otherwise, refactored on the stepping buildings' runs when h changed; none for an exact step with
+    every gap open (``modal_step``: the modal step needs no solve).  fac = (L_lev, have_lev, L_h); nb = (beta,
+    gamma); h_cached: the step the scratch factor holds.  Returns (ok, the factor, the scratch factor's step)."""
+    L_lev, have_lev, L_h = fac
+    mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1 = row
+    beta, gamma = nb
+    r_lo, r_hi, r_elo, r_ehi = runs[0], runs[1], runs[2], runs[3]
+    if lv >= 0:
+        if not have_lev[lv] and not modal_step:
+            if not _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[lv]):
+                return False, L_h, h_cached
+            have_lev[lv] = True
+            stats[S_FACTORIZATIONS] += 1
+        return True, L_lev[lv], h_cached
+    if not modal_step and abs(h - h_cached) > 1e-14 * h:
+        for rr in range(n_run):  # the stepping buildings' rows
+            if not _factor_range(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_h,
+                                 r_lo[rr], r_hi[rr], r_elo[rr], r_ehi[rr]):
+                return False, L_h, h_cached
+        stats[S_FACTORIZATIONS] += 1
+        h_cached = h
+        wc_key[2] = 0.0  # its semiseparable inverse is stale
+    return True, L_h, h_cached
+
+
+@njit(cache=True)
+def _screen_waiting(s1, dt, cc, mr, n_ss, n_scr, gaps, trial, ws, gk, ends):
+    """The end state of each gap with a waiting side (scr[n_ss:n_scr]) at the end of a substep: the stepping
+    side at u + Du, the waiting side on its own step's cubic Hermite trajectory (``_waiting_state``) at the
+    fraction s1 of the analysis step.  trial = (u, v, Du, Vv); ends = (d_end, r_end), filled.
+
+    The Hermite weights are computed once per attempt, in a loop of their own: calling _gap_state per gap
+    instead, even inlined, made 4 x 10 storeys 12 % slower in same-process A/B (it recomputes them per
+    side)."""
+    dof_blk, in_s, scr = mr[2], mr[5], mr[7]
+    gap_i, gap_j, gap_size = gaps[0], gaps[1], gaps[4]
+    u, v, Du, Vv = trial
+    u_w1, v_w1 = ws[3], ws[4]
+    d_end, r_end = ends
+    s2 = s1 * s1
+    s3 = s2 * s1
+    wu0 = 2 * s3 - 3 * s2 + 1
+    wv0 = (s3 - 2 * s2 + s1) * dt
+    wu1 = -2 * s3 + 3 * s2
+    wv1 = (s3 - s2) * dt
+    xu = (6 * s2 - 6 * s1) / dt  # derivative: xd = xu (u0 - u1) + xv0 v0 + xv1 v1
+    xv0 = 3 * s2 - 4 * s1 + 1
+    xv1 = 3 * s2 - 2 * s1
+    for qq in range(n_ss, n_scr):
+        g = scr[qq]
+        ii = np.uint64(gap_i[g])
+        jj = np.uint64(gap_j[g])
+        if in_s[dof_blk[ii]]:
+            xi = u[ii] + Du[ii]
+            vi = Vv[ii] + cc * Du[ii]
+        else:
+            xi = wu0 * u[ii] + wv0 * v[ii] + wu1 * u_w1[ii] + wv1 * v_w1[ii]
+            vi = xu * (u[ii] - u_w1[ii]) + xv0 * v[ii] + xv1 * v_w1[ii]
+        if in_s[dof_blk[jj]]:
+            xj = u[jj] + Du[jj]
+            vj = Vv[jj] + cc * Du[jj]
+        else:
+            xj = wu0 * u[jj] + wv0 * v[jj] + wu1 * u_w1[jj] + wv1 * v_w1[jj]
+            vj = xu * (u[jj] - u_w1[jj]) + xv0 * v[jj] + xv1 * v_w1[jj]
+        d_end[g], r_end[g] = _gap_kinematics(xi, 0.0, xj, 0.0, vi, 0.0, vj, 0.0, gap_size[g], gk[GU1, g], gk[GV1, g])
+
+
+@njit(cache=True)
+def _at_once(h, hmin, scr, n_ss, n_scr, gaps, cs, states, landed, target, toggles):
+    """Every gap whose event is at the current time (within hmin of the step's start): they switch now,
+    together (identical floors touch at once: one attempt, not one per gap); a gap with a waiting side is
+    found again in the next attempt, and joins then.  states = (d0, r0, d_end, r_end).  Fills toggles;
+    returns their number."""
+    gap_law = gaps[5]
+    active = cs[0]
+    d0, r0, d_end, r_end = states
+    n_tog = 0
+    for qq in range(n_ss):
+        g = scr[qq]
+        if gap_law[g] == NONE or (landed and g == target):
+            continue
+        tol = LAND_TOL * max(abs(r0[g]), abs(r_end[g])) * h + 1e-15
+        if _event_in_step(d0[g], r0[g], d_end[g], r_end[g], h, not active[g], tol) * h < hmin:
+            toggles[n_tog] = g
+            n_tog += 1
+    return n_tog
+
+
+@njit(cache=True)
+def _accept(h, coef, grd, incr, st, row, gaps, gf, cs, cat, outs, act, rate, energy):
+    """Accept the trial step of h [s] on the stepping buildings' rows: state, peaks, each closed gap's force
+    and its peak between the last three samples of its impact, and the energies by the trapezoidal work.
+    coef = (1/(beta h^2), gamma/(beta h)); grd = (g_t, g_1) the ground accelerations at its ends; incr =
+    (Du, Av, Vv); act = (gaps closed, their list); rate = (some building waits, stepping runs, runs); energy =
+    (e_in, w_int, e_cont) [J], returned updated."""
+    cm, cc = coef
+    g_t, g_1 = grd
+    Du, Av, Vv = incr
+    u, v, a, fint = st[0], st[1], st[2], st[3]
+    mass, dof_motion = row[0], row[2]
+    gap_i, gap_j = gaps[0], gaps[1]
+    F, F1, F_old, h_old = gf
+    age, cur_imp = cs[3], cs[4]
+    imp_fmax = cat[4]
+    umax, fmax = outs[5], outs[6]
+    m_act, act_list = act
+    waiting, n_run, runs = rate
+    e_in, w_int, e_cont = energy
+    if waiting:
+        for rr in range(n_run):
+            e_in, w_int = _accept_rows(runs[0][rr], runs[1][rr], cm, cc, mass, dof_motion, g_t, g_1, Du, Av, Vv,
+                                       fint, u, v, a, umax, e_in, w_int)
+    else:
+        e_in, w_int = _accept_rows(0, u.size, cm, cc, mass, dof_motion, g_t, g_1, Du, Av, Vv,
+                                   fint, u, v, a, umax, e_in, w_int)
+    for q in range(m_act):
+        gq = act_list[q]
+        ii = gap_i[gq]
+        jj = gap_j[gq]
+        age[gq] += 1
+        w_int -= 0.5 * F1[gq] * (Du[ii] - Du[jj])
+        fint[ii] -= F1[gq]
+        fint[jj] += F1[gq]
+        e_cont += 0.5 * (F[gq] + F1[gq]) * (Du[ii] - Du[jj])
+        # the force's peak between the last three samples of this impact
+        fpk = _peak_through(F_old[gq], F[gq], F1[gq], h_old[gq], h) if age[gq] >= 2 else F1[gq]
+        fpk = max(fpk, F1[gq])
+        F_old[gq] = F[gq]
+        h_old[gq] = h
+        F[gq] = F1[gq]
+        if fpk > fmax[gq]:
+            fmax[gq] = fpk
+        if fpk > imp_fmax[cur_imp[gq]]:
+            imp_fmax[cur_imp[gq]] = fpk
+    return e_in, w_int, e_cont

@@ -32,16 +32,7 @@ def borrow(typingctx, arr):
         return None
 
     def codegen(context, builder, signature, args):
-        src = context.make_array(arr)(context, builder, value=args[0])
-        dst = context.make_array(arr)(context, builder)
-        dst.meminfo = cgutils.get_null_value(dst.meminfo.type)
-        dst.parent = cgutils.get_null_value(dst.parent.type)
-        dst.nitems = src.nitems
-        dst.itemsize = src.itemsize
-        dst.data = src.data
-        dst.shape = src.shape
-        dst.strides = src.strides
-        return dst._getvalue()
+        return _borrowed(context, builder, arr, args[0])
 
     return arr(arr), codegen
 
@@ -54,3 +45,37 @@ def keep_alive(typingctx, owners):
         return context.get_dummy_value()
 
     return types.none(owners), codegen
+
+
+def _borrowed(context, builder, typ, value):
+    """``value`` of type ``typ`` with every array in it borrowed (tuples recursively; scalars as they are)."""
+    if isinstance(typ, types.Array):
+        src = context.make_array(typ)(context, builder, value=value)
+        dst = context.make_array(typ)(context, builder)
+        dst.meminfo = cgutils.get_null_value(dst.meminfo.type)
+        dst.parent = cgutils.get_null_value(dst.parent.type)
+        dst.nitems = src.nitems
+        dst.itemsize = src.itemsize
+        dst.data = src.data
+        dst.shape = src.shape
+        dst.strides = src.strides
+        return dst._getvalue()
+    if isinstance(typ, types.BaseTuple):
+        out = value
+        for k, member in enumerate(typ):
+            out = builder.insert_value(out, _borrowed(context, builder, member, builder.extract_value(value, k)), k)
+        return out
+    return value
+
+
+@intrinsic
+def borrow_all(typingctx, group):
+    """The tuple ``group`` (nested or not) with every array in it borrowed: a named group of the kernel's
+    arrays (same types, data, shapes and strides; scalars as they are)."""
+    if not isinstance(group, types.BaseTuple):
+        return None
+
+    def codegen(context, builder, signature, args):
+        return _borrowed(context, builder, group, args[0])
+
+    return group(group), codegen

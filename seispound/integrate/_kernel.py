@@ -812,7 +812,7 @@ def _output_row(k, st, g_t, row, F, outs, energy):
     out_e[k, E_CONTACT] = e_cont
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _contact_newton(kind, lin, act, wc, semi, gaps, trial, gf, age, nwt, opts, stats):
     """Newton-Raphson on the closed gaps' forces, condensed through K_hat^-1 (module docstring), one
     iteration per independent group; the increment Du then loses the contact forces' share.
@@ -921,7 +921,7 @@ def _contact_newton(kind, lin, act, wc, semi, gaps, trial, gf, age, nwt, opts, s
     return converged, it
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _factor_for(lv, h, modal_step, h_cached, fac, row, p, nb, runs, n_run, wc_key, stats):
     """K_hat(h)'s factor for a step of h [s]: the level's (lv >= 0: h = dt / 2^lv, factored once), the scratch
     factor otherwise, refactored on the stepping buildings' runs when h changed; none for an exact step with
@@ -949,7 +949,7 @@ def _factor_for(lv, h, modal_step, h_cached, fac, row, p, nb, runs, n_run, wc_ke
     return True, L_h, h_cached
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _screen_waiting(s1, dt, cc, mr, n_ss, n_scr, gaps, trial, ws, gk, ends):
     """The end state of each gap with a waiting side (scr[n_ss:n_scr]) at the end of a substep: the stepping
     side at u + Du, the waiting side on its own step's cubic Hermite trajectory (``_waiting_state``) at the
@@ -991,7 +991,7 @@ def _screen_waiting(s1, dt, cc, mr, n_ss, n_scr, gaps, trial, ws, gk, ends):
         d_end[g], r_end[g] = _gap_kinematics(xi, 0.0, xj, 0.0, vi, 0.0, vj, 0.0, gap_size[g], gk[GU1, g], gk[GV1, g])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _at_once(h, hmin, scr, n_ss, n_scr, gaps, cs, states, landed, target, toggles):
     """Every gap whose event is at the current time (within hmin of the step's start): they switch now,
     together (identical floors touch at once: one attempt, not one per gap); a gap with a waiting side is
@@ -1012,7 +1012,7 @@ def _at_once(h, hmin, scr, n_ss, n_scr, gaps, cs, states, landed, target, toggle
     return n_tog
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _accept(h, coef, grd, incr, st, row, gaps, gf, cs, cat, outs, act, rate, energy):
     """Accept the trial step of h [s] on the stepping buildings' rows: state, peaks, each closed gap's force
     and its peak between the last three samples of its impact, and the energies by the trapezoidal work.

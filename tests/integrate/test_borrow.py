@@ -11,7 +11,7 @@ import gc
 import numpy as np
 from numba import njit
 
-from seispound.integrate._borrow import borrow, keep_alive
+from seispound.integrate._borrow import borrow, borrow_all, keep_alive
 
 
 @njit(cache=True)
@@ -59,4 +59,32 @@ def test_the_owner_tuple_keeps_the_work_array_alive():
     out, s = _owned_work(n, reps)
     gc.collect()
     assert out == sum(i * (r + 1) for r in range(reps) for i in range(n))
+    assert s == n * reps
+
+
+@njit(cache=True)
+def _group_work(n, reps):
+    owners = (np.zeros(n), (np.zeros((2, n)), 3, 0.5), np.zeros(n, np.int64))  # a nested named group
+    w, (w2, k, x), idx = borrow_all(owners)
+    s = 0.0
+    for r in range(reps):
+        for i in range(n):
+            w[i] += i * (r + 1)
+            w2[1, i] += k * x
+            idx[i] = i
+        scratch = np.ones(n)  # allocations in between would reuse freed memory
+        s += scratch.sum()
+    keep_alive(owners)
+    return owners[0].sum(), owners[1][0].sum(), owners[1][0][1].sum(), owners[2].sum(), s
+
+
+def test_a_borrowed_group_is_its_owners():
+    """``borrow_all``: every array of a nested tuple borrowed, scalars as they are; writes reach the owners,
+    which the owner tuple keeps alive."""
+    n, reps = 1000, 50
+    w, w2, row1, idx, s = _group_work(n, reps)
+    gc.collect()
+    assert w == sum(i * (r + 1) for r in range(reps) for i in range(n))
+    assert w2 == row1 == n * reps * 1.5
+    assert idx == n * (n - 1) // 2
     assert s == n * reps

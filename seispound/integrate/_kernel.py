@@ -789,7 +789,7 @@ def _commit_waiting(n_wrun, mr, runs, ws, row, gaps, gk, st, umax, dr, energy):
     return e_in, w_int
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _output_row(k, st, g_t, row, F, outs, energy):
     """Write output row k: the state (absolute accelerations), the gaps' forces and the energies
     (energy = (e_in, w_int, e_cont) [J]; the strain energy, and the damping's share of w_int, follow when

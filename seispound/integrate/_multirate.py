@@ -167,7 +167,7 @@ def _screen_list(in_s, gb_lo, gb_hi, scr):
 # Newmark with the level-0 factor L0 of half bandwidth p; scratch = (Av, Vv, R0) (n,) work arrays).
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _who_steps(m_act, act_list, multirate, wait_share, mr, runs):
     """Which buildings take this analysis step's substeps: with multi-rate stepping and some gap closed,
     the buildings of the closed gaps' groups, provided the others hold at least ``wait_share`` of the

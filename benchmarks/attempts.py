@@ -58,7 +58,7 @@ N_PROBE = 5
 
 # (anchor, code, where): code inserted before or after the single occurrence of anchor
 _PATCHES = [
-    ("                     stats):\n", "                     stats, probe):\n", "replace"),
+    ("multi, outs, cat, stats):\n", "multi, outs, cat, stats, probe):\n", "replace"),
     ("    hmin = 1e-9 * dt ", "    busy = np.zeros(n, np.bool_)\n    step_attempts = 0\n", "before"),
     ("        t_end = (step + 1) * dt\n",
      "        for i in range(n):\n"

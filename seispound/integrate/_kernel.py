@@ -86,7 +86,7 @@ import numpy as np
 from seispound._jit import njit
 
 from ..contact._scalar import NONE, contact_force
-from ._borrow import borrow, keep_alive
+from ._borrow import borrow, borrow_all, keep_alive
 from ._contact import _begin_impact, _contact_step, _end_impact, _grid_level, _group_contacts, _peak_through
 from ._elements import _gap_deformation, _gap_kinematics, _gap_trial
 from ._events import LAND_TOL, _event_in_step, _screen_step
@@ -133,15 +133,16 @@ from ._outputs import (  # noqa: F401 (re-exported)
 
 
 @njit(cache=True)
-def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
-                     u_init, v_init, gap_i, gap_j, gap_lo, gap_hi, gap_size, gap_law, gap_par,
-                     ag, moving, gap_ground, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store,
-                     use_modal, md_start, md_blocks_t, md_block_off, md_phi_t, md_phi_tm, md_w2, md_c,
-                     md_gam, nblk, exact, ex_co, multirate, wait_share, blk_dof, blk_el,
-                     out_u, out_v, out_a, out_f, out_e, umax, fmax,
-                     imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e,
-                     stats):
+def integrate_kernel(row, p, init, gaps, motion, settings, modal, multi, outs, cat, stats):
     """Integrate the row of buildings; fill the output arrays; return (status, n_impacts, t_reached).
+
+    The arguments come in named tuples: row = (mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1); p the
+    half bandwidth of K_hat; init = (u_init, v_init); gaps = (gap_i, gap_j, gap_lo, gap_hi, gap_size,
+    gap_law, gap_par); motion = (ag, moving, gap_ground); settings = (dt, nsteps, beta, gamma, n_sub, rtol,
+    max_iter, store); modal = (use_modal, md_start, md_blocks_t, md_block_off, md_phi_t, md_phi_tm, md_w2,
+    md_c, md_gam, nblk, exact, ex_co); multi = (multirate, wait_share, blk_dof, blk_el); outs = (out_u,
+    out_v, out_a, out_f, out_e, umax, fmax); cat = (imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur,
+    imp_zeta, imp_e); stats.
 
     Shapes: n DOFs, ne elements, ng gaps, nm base motions, nt = nsteps + 1.
     mass, dof_a0, dof_motion, u_init, v_init : (n,); el_* : (ne,); gap_* : (ng,),
@@ -174,19 +175,17 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     (3, ng, 1) and unused when ``moving`` is False.
     """
     # arguments: alive for the whole call, so borrowed (``_borrow``: no reference counting in the loop)
-    mass, dof_a0, dof_motion, el_i = borrow(mass), borrow(dof_a0), borrow(dof_motion), borrow(el_i)
-    el_j, el_k, el_a1, u_init, v_init = borrow(el_j), borrow(el_k), borrow(el_a1), borrow(u_init), borrow(v_init)
-    gap_i, gap_j, gap_lo, gap_hi = borrow(gap_i), borrow(gap_j), borrow(gap_lo), borrow(gap_hi)
-    gap_size, gap_law, gap_par, ag = borrow(gap_size), borrow(gap_law), borrow(gap_par), borrow(ag)
-    gap_ground = borrow(gap_ground)
-    md_start, md_blocks_t, md_block_off = borrow(md_start), borrow(md_blocks_t), borrow(md_block_off)
-    md_phi_t, md_phi_tm, md_w2, md_c = borrow(md_phi_t), borrow(md_phi_tm), borrow(md_w2), borrow(md_c)
-    md_gam, blk_dof, blk_el, out_u = borrow(md_gam), borrow(blk_dof), borrow(blk_el), borrow(out_u)
-    out_v, out_a, out_f, out_e, umax = borrow(out_v), borrow(out_a), borrow(out_f), borrow(out_e), borrow(umax)
-    fmax, imp_gap, imp_t0, imp_v0 = borrow(fmax), borrow(imp_gap), borrow(imp_t0), borrow(imp_v0)
-    imp_vout, imp_fmax, imp_dur, imp_zeta = borrow(imp_vout), borrow(imp_fmax), borrow(imp_dur), borrow(imp_zeta)
-    imp_e = borrow(imp_e)
+    row, init, gaps, motion, modal, multi, outs, cat = borrow_all((row, init, gaps, motion, modal, multi, outs, cat))
     stats = borrow(stats)
+    mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1 = row
+    u_init, v_init = init
+    gap_i, gap_j, gap_lo, gap_hi, gap_size, gap_law, gap_par = gaps
+    ag, moving, gap_ground = motion
+    dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store = settings
+    use_modal, md_start, md_blocks_t, md_block_off, md_phi_t, md_phi_tm, md_w2, md_c, md_gam, nblk, exact, ex_co = modal
+    multirate, wait_share, blk_dof, blk_el = multi
+    out_u, out_v, out_a, out_f, out_e, umax, fmax = outs
+    imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e = cat
     n = mass.size
     ng = gap_size.size
     nm = ag.shape[0]
@@ -363,11 +362,7 @@ def integrate_kernel(mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1, p,
     QAb, DQb, Pb, Ub, Vb, f_start = borrow(QAb), borrow(DQb), borrow(Pb), borrow(Ub), borrow(Vb), borrow(f_start)
     s_in, s_out, Eb, md_khinv = borrow(s_in), borrow(s_out), borrow(Eb), borrow(md_khinv)
     # the named groups of arrays that the phases take (tuples of the borrowed arrays above)
-    row = (mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1)  # the linear row: masses, two-node elements
-    gaps = (gap_i, gap_j, gap_lo, gap_hi, gap_size, gap_law, gap_par)
     cs = (active, st_c, hsub, age, cur_imp)  # each gap's contact state (``_contact._begin_impact``)
-    cat = (imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e)  # the impact catalogue
-    outs = (out_u, out_v, out_a, out_f, out_e, umax, fmax)
     st = (u, v, a, fint, fs, fd)  # the state and the internal forces in equilibrium with it
     runs = (r_lo, r_hi, r_elo, r_ehi, w_lo, w_hi, w_elo, w_ehi)  # stepping and waiting buildings' runs
     mr = (blk_dof, blk_el, dof_blk, gb_lo, gb_hi, in_s, was_s, scr)  # multi-rate: who steps

@@ -316,12 +316,13 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         announce_compile(K.integrate_kernel, "fast")
         f = _writable
         return (*K.integrate_kernel(
-            *f(system.mass, system.dof_a0, system.dof_motion, system.el_i, system.el_j, system.el_k,
-               system.el_a1), int(system.bandwidth), *f(system.u0, system.v0, gap_i, gap_j, gap_lo, gap_hi,
-                                                        gap_size, gap_law, gap_par, ag), moving, *f(ground),
-            float(dt), int(nsteps), float(nm.beta), float(nm.gamma), (_substeps(nm), float(contact_step)),
-            float(nm.rtol), int(nm.max_iter), bool(store_history), md[0], *f(*md[1:-1]), md[-1], exact, *f(ex_co),
-            bool(multirate), float(wait_share), *f(blk_dof, blk_el), **out), out)
+            tuple(f(system.mass, system.dof_a0, system.dof_motion, system.el_i, system.el_j, system.el_k,
+                    system.el_a1)), int(system.bandwidth), tuple(f(system.u0, system.v0)),
+            tuple(f(gap_i, gap_j, gap_lo, gap_hi, gap_size, gap_law, gap_par)), (*f(ag), moving, *f(ground)),
+            (float(dt), int(nsteps), float(nm.beta), float(nm.gamma), (_substeps(nm), float(contact_step)),
+             float(nm.rtol), int(nm.max_iter), bool(store_history)),
+            (md[0], *f(*md[1:-1]), md[-1], exact, *f(ex_co)), (bool(multirate), float(wait_share), *f(blk_dof, blk_el)),
+            tuple(out[k] for k in _OUTPUTS), tuple(out[k] for k in _CATALOGUE), out["stats"]), out)
 
     n_imp, out = _run_growing(run, cap)
     out["out_e"][:, K.E_HYSTERETIC] = 0.0  # no storey with history on this path
@@ -387,6 +388,11 @@ def _writable(*arrays):
 def _check_scheme(scheme):
     if scheme not in ("exact", "newmark"):
         raise InputError(f'scheme must be "exact" or "newmark", got {scheme!r}', key="analysis.scheme")
+
+
+# the fast driver's output and catalogue arrays, in the order of its named tuples ``outs`` and ``cat``
+_OUTPUTS = ("out_u", "out_v", "out_a", "out_f", "out_e", "umax", "fmax")
+_CATALOGUE = ("imp_gap", "imp_t0", "imp_v0", "imp_vout", "imp_fmax", "imp_dur", "imp_zeta", "imp_e")
 
 
 def _catalogue(cap) -> dict:

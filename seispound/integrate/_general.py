@@ -49,7 +49,7 @@ from __future__ import annotations
 import numpy as np
 from seispound._jit import njit
 
-from ._borrow import borrow, keep_alive
+from ._borrow import borrow, borrow_all, keep_alive
 from ._contact import _begin_impact, _contact_step, _end_impact, _grid_level, _group_contacts, _peak_through
 from ._elements import (_add_to_band, _dot, _scatter, assemble_band, kinetic_energy, linear_bands, linear_forces,
                         lumped_diagonal, mass_times, strain_energy)
@@ -711,12 +711,15 @@ def _free_flight(ff, t_end, dt, ag, ne_ground, moving, el, active, lin, g_t, g_1
 
 
 @njit(cache=True)
-def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, numbering, dof_load, dof_motion, dof_infl,
-                   ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi, state0, ag, moving, ne_ground,
-                   u_init, v_init, dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store, tangent, pT, lev_free, flags,
-                   out_u, out_v, out_a, out_f, out_e, umax, fmax,
-                   imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e, stats):
+def general_kernel(linear, p, numbering, elements, state0, motion, init, settings, opts, flags, outs, cat, stats):
     """Integrate; fill the outputs; return (status, n_impacts, t_reached).
+
+    The arguments come in named tuples: linear = (ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k,
+    le_c); p; numbering = (first, out_col); elements = (dof_load, dof_motion, dof_infl, ne_dof, ne_coef,
+    ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi); state0; motion = (ag, moving, ne_ground); init = (u_init,
+    v_init); settings = (dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store) as the fast driver's; opts =
+    (tangent, pT, lev_free); flags = (ff, el_pred); outs = (out_u, out_v, out_a, out_f, out_e, umax, fmax);
+    cat = (imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e); stats.
 
     Shapes: n DOFs, nn elements with state, nm motion rows, nt = nsteps + 1.
     ms_* : masses (nms, 3) / (nms,) [kg], ms_a0 [1/s] their proportional damping;
@@ -754,21 +757,19 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     the screen finds an event, the step is taken on the physical path.
     """
     # arguments: alive for the whole call, so borrowed (``_borrow``: no reference counting in the loop)
-    ms_dof, ms_coef, ms_val, ms_a0 = borrow(ms_dof), borrow(ms_coef), borrow(ms_val), borrow(ms_a0)
-    le_dof, le_coef, le_k, le_c = borrow(le_dof), borrow(le_coef), borrow(le_k), borrow(le_c)
-    first, out_col = borrow(numbering[0]), borrow(numbering[1])
-    dof_load, dof_motion, dof_infl = borrow(dof_load), borrow(dof_motion), borrow(dof_infl)
-    ne_dof, ne_coef, ne_size, ne_code = borrow(ne_dof), borrow(ne_coef), borrow(ne_size), borrow(ne_code)
-    ne_par, ne_gap, ne_lo, ne_hi = borrow(ne_par), borrow(ne_gap), borrow(ne_lo), borrow(ne_hi)
-    ag, ne_ground, u_init, v_init = borrow(ag), borrow(ne_ground), borrow(u_init), borrow(v_init)
-    out_u, out_v, out_a, out_f = borrow(out_u), borrow(out_v), borrow(out_a), borrow(out_f)
-    out_e, umax, fmax, stats = borrow(out_e), borrow(umax), borrow(fmax), borrow(stats)
-    imp_gap, imp_t0, imp_v0, imp_vout = borrow(imp_gap), borrow(imp_t0), borrow(imp_v0), borrow(imp_vout)
-    imp_fmax, imp_dur, imp_zeta, imp_e = borrow(imp_fmax), borrow(imp_dur), borrow(imp_zeta), borrow(imp_e)
+    linear, numbering, elements, motion, init, flags, outs, cat = borrow_all(
+        (linear, numbering, elements, motion, init, flags, outs, cat))
+    stats = borrow(stats)
+    ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = linear
+    first, out_col = numbering
+    dof_load, dof_motion, dof_infl, ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi = elements
+    ag, moving, ne_ground = motion
+    u_init, v_init = init
+    dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store = settings
+    tangent, pT, lev_free = opts
     ff, el_pred = flags
-    ff = (ff[0], borrow(ff[1]), borrow(ff[2]), borrow(ff[3]), borrow(ff[4]), borrow(ff[5]), borrow(ff[6]),
-          borrow(ff[7]), borrow(ff[8]), borrow(ff[9]), borrow(ff[10]), borrow(ff[11]), borrow(ff[12]), borrow(ff[13]),
-          borrow(ff[14]), borrow(ff[15]), ff[16])
+    out_u, out_v, out_a, out_f, out_e, umax, fmax = outs
+    imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e = cat
     n = u_init.size
     nn = ne_size.size
     nm = ag.shape[0]
@@ -868,7 +869,6 @@ def general_kernel(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, 
     g_t, g_1 = borrow(g_t), borrow(g_1)
     elg = (ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi)
     cs = (active, st_c, hsub, age, cur_imp)  # each element's contact state (``_contact._begin_impact``)
-    cat = (imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e)  # the impact catalogue
     el_b = (ne_dof, ne_coef, ne_par, ne_gap)  # what the elastic factor adds
     twork = (zt, xt, resv, kt, Wt, Sm, ym, gpos)
     for s in range(stats.size):

@@ -475,7 +475,7 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     moving = ground.shape[2] > 1
     cap = impact_capacity or max(256, nsteps // 4 + 16 * max(len(live), 1))
     nt = nsteps + 1 if store_history else 1
-    ne_lo, ne_hi, p_tangent = row["ne_lo"], row["ne_hi"], row["p_tangent"]
+    p_tangent = row["p_tangent"]
     lev_free = int(round(math.log2(substeps))) if substeps else 0
     from ..storey.codes import BILINEAR, BOUC_WEN
 
@@ -503,12 +503,11 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
         announce_compile(G.general_kernel, "general")
         f = _writable
         return (*G.general_kernel(
-            *row["linear"], int(tab["p"]), row["numbering"], *row["elements"],
-            np.zeros((nn, N_STATE)), *f(ag), moving, *f(ground), u0, v0,
-            float(dt), int(nsteps), float(nm.beta), float(nm.gamma), (_substeps(nm), float(contact_step)),
-            float(nm.rtol), int(nm.max_iter), bool(store_history), bool(tangent), int(p_tangent), lev_free,
-            (ff_args, el_pred),
-            **out),
+            tuple(row["linear"]), int(tab["p"]), row["numbering"], tuple(row["elements"]),
+            np.zeros((nn, N_STATE)), (*f(ag), moving, *f(ground)), (u0, v0),
+            (float(dt), int(nsteps), float(nm.beta), float(nm.gamma), (_substeps(nm), float(contact_step)),
+             float(nm.rtol), int(nm.max_iter), bool(store_history)), (bool(tangent), int(p_tangent), lev_free),
+            (ff_args, el_pred), tuple(out[k] for k in _OUTPUTS), tuple(out[k] for k in _CATALOGUE), out["stats"]),
             out)
 
     n_imp, out = _run_growing(run, cap)

@@ -773,7 +773,6 @@ def general_kernel(linear, p, numbering, elements, state0, motion, init, setting
     n = u_init.size
     nn = ne_size.size
     nm = ag.shape[0]
-    cap = imp_gap.size
     # the linear part as elements (assembly), as the bands of K and C (its forces), M's diagonal if lumped
     # and the envelope every factor keeps to
     lin = (ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c,
@@ -880,31 +879,11 @@ def general_kernel(linear, p, numbering, elements, state0, motion, init, setting
         return NEWTON_FAILED, 0, 0.0  # a DOF without mass (the front end refuses it first)
 
     # -- initial state: storeys active, gaps closing at t = 0 start an impact ------
-    if moving:
-        _gap_ground_all(ne_ground, 0.0, dt, gk, GU0)
-    m_act = 0
-    for q in range(nn):
-        d0[q], r0[q] = _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, GU0)
-        if not ne_gap[q]:
-            active[q] = True
-        elif d0[q] > 0.0 or (d0[q] == 0.0 and r0[q] > 0.0):
-            if n_imp >= cap:
-                return IMPACT_CAPACITY, n_imp, t
-            _begin_impact(q, t, d0[q], r0[q], ne_code[q], ne_par[q], n_sub, cs, cat, n_imp)
-            n_imp += 1
-        if active[q]:
-            act[m_act] = q
-            m_act += 1
-            F[q] = material_trial(ne_code[q], ne_par, st_c, st_t, q, d0[q], r0[q])[0]
-            material_commit(st_c, st_t, q)
-    n_comp = _group_contacts(m_act, act, ne_lo, ne_hi, comp_off)
-    _ground_all(ag, t, dt, g_t)
-    _acceleration(LM, p, lin, dof_load, dof_motion, g_t, u, v, ne_dof, ne_coef, F, flin, a)
-    es_lin0 = strain_energy(le_dof, le_coef, le_k, u)
-    rec0 = 0.0
-    for q in range(nn):
-        rec0 += material_energy(ne_code[q], ne_par, st_c, q, d0[q])
-    e_in = kinetic_energy(ms_dof, ms_coef, ms_val, lin[9], v) + es_lin0 + rec0  # present at t = 0: input
+    status, n_imp, m_act, n_comp, es_lin0, rec0, e_in = _start(dt, n_sub, motion, elg, cs, cat, st_t, F,
+                                                               (act, comp_off), (u, v, a, flin), (d0, r0), gk, g_t,
+                                                               (LM, p, lin, dof_load, dof_motion))
+    if status != OK:
+        return status, n_imp, t
     w_lin = 0.0  # work of the linear elements and dampers
     w_hys = 0.0  # work done on the hysteretic elements
     e_cont = 0.0
@@ -1028,14 +1007,7 @@ def general_kernel(linear, p, numbering, elements, state0, motion, init, setting
                     break
                 stats[S_REJECTED] += 1
                 if theta * h < hmin:  # events at the current time: switch them in place, then step
-                    n_tog = 0
-                    for q in range(nn):
-                        if not ne_gap[q] or (landed and q == target):
-                            continue
-                        tol = LAND_TOL * max(abs(r0[q]), abs(r1[q])) * h + 1e-15
-                        if _event_in_step(d0[q], r0[q], d1[q], r1[q], h, not active[q], tol) * h < hmin:
-                            toggles[n_tog] = q
-                            n_tog += 1
+                    n_tog = _at_once(h, hmin, ne_gap, active, (d0, r0, d1, r1), landed, target, toggles)
                     break
                 h = theta * h
                 target = g_ev
@@ -1065,21 +1037,12 @@ def general_kernel(linear, p, numbering, elements, state0, motion, init, setting
                     for k in range(n_land):
                         toggles[n_tog] = land_too[k]
                         n_tog += 1
-            # ---- switch gaps: onset (the law's onset hook) or end of an impact
-            for k in range(n_tog):
-                q = toggles[k]
-                if not active[q]:
-                    if n_imp >= cap:
-                        return IMPACT_CAPACITY, n_imp, t
-                    F[q] = _begin_impact(q, t, d0[q], r0[q], ne_code[q], ne_par[q], n_sub, cs, cat, n_imp)
-                    fmax[q] = max(fmax[q], F[q])
-                    n_imp += 1
-                    act[m_act] = q
-                    m_act += 1
-                else:
-                    m_act = _end_impact(q, t, r0[q], m_act, act, cs, cat)
-                    F[q] = 0.0
             if n_tog > 0:
+                # ---- SWITCH: an impact's onset (the law's onset hook) or end at each gap in toggles
+                status, n_imp, m_act = _switch(toggles, n_tog, t, n_sub, elg, (d0, r0), F, fmax, cs, cat, act,
+                                               (n_imp, m_act))
+                if status != OK:
+                    return status, n_imp, t
                 n_comp = _group_contacts(m_act, act, ne_lo, ne_hi, comp_off)
                 # a contact force may jump at an event (LVe's dashpot): equilibrium at fixed (u, v)
                 _acceleration(LM, p, lin, dof_load, dof_motion, g_t, u, v, ne_dof, ne_coef, F, flin, a)
@@ -1160,3 +1123,88 @@ def _output(k, store, u, v, a, g, dof_motion, dof_infl, F, lin, ne_code, ne_par,
     out_e[k, E_DAMPING] = w_lin - (es_lin - es_lin0)
     out_e[k, E_CONTACT] = e_cont
     out_e[k, E_HYSTERETIC] = w_hys - (rec - rec0)
+
+
+@njit(cache=True)
+def _start(dt, n_sub, motion, elg, cs, cat, st_t, F, lists, st, dr, gk, g_t, eq):
+    """The state at t = 0: every storey active, gaps already closing (touching bodies) start an impact, each
+    active element's force from its law, the closed gaps listed and grouped, the accelerations from
+    equilibrium.  lists = (act, comp_off), filled; st = (u, v, a, flin); dr = (d0, r0) each element's
+    deformation [m] and rate [m/s], filled; eq = (LM, p, lin, dof_load, dof_motion).  Returns (status,
+    impacts, active elements, groups, the linear elements' strain energy [J], the storeys' recoverable
+    energy [J], the energy present at t = 0 [J], counted as input)."""
+    ag, moving, ne_ground = motion
+    ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi = elg
+    active, st_c = cs[0], cs[1]
+    act, comp_off = lists
+    u, v, a, flin = st
+    d0, r0 = dr
+    LM, p, lin, dof_load, dof_motion = eq
+    n_imp = 0
+    if moving:
+        _gap_ground_all(ne_ground, 0.0, dt, gk, GU0)
+    m_act = 0
+    for q in range(ne_size.size):
+        d0[q], r0[q] = _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, GU0)
+        if not ne_gap[q]:
+            active[q] = True
+        elif d0[q] > 0.0 or (d0[q] == 0.0 and r0[q] > 0.0):
+            if n_imp >= cat[0].size:
+                return IMPACT_CAPACITY, n_imp, 0, 0, 0.0, 0.0, 0.0
+            _begin_impact(q, 0.0, d0[q], r0[q], ne_code[q], ne_par[q], n_sub, cs, cat, n_imp)
+            n_imp += 1
+        if active[q]:
+            act[m_act] = q
+            m_act += 1
+            F[q] = material_trial(ne_code[q], ne_par, st_c, st_t, q, d0[q], r0[q])[0]
+            material_commit(st_c, st_t, q)
+    n_comp = _group_contacts(m_act, act, ne_lo, ne_hi, comp_off)
+    _ground_all(ag, 0.0, dt, g_t)
+    _acceleration(LM, p, lin, dof_load, dof_motion, g_t, u, v, ne_dof, ne_coef, F, flin, a)
+    es_lin0 = strain_energy(lin[4], lin[5], lin[6], u)
+    rec0 = 0.0
+    for q in range(ne_size.size):
+        rec0 += material_energy(ne_code[q], ne_par, st_c, q, d0[q])
+    e_in = kinetic_energy(lin[0], lin[1], lin[2], lin[9], v) + es_lin0 + rec0
+    return OK, n_imp, m_act, n_comp, es_lin0, rec0, e_in
+
+
+@njit(cache=True)
+def _at_once(h, hmin, ne_gap, active, states, landed, target, toggles):
+    """Every gap whose event is at the current time (within hmin of the step's start): they switch now,
+    together.  states = (d0, r0, d1, r1).  Fills toggles; returns their number."""
+    d0, r0, d1, r1 = states
+    n_tog = 0
+    for q in range(ne_gap.size):
+        if not ne_gap[q] or (landed and q == target):
+            continue
+        tol = LAND_TOL * max(abs(r0[q]), abs(r1[q])) * h + 1e-15
+        if _event_in_step(d0[q], r0[q], d1[q], r1[q], h, not active[q], tol) * h < hmin:
+            toggles[n_tog] = q
+            n_tog += 1
+    return n_tog
+
+
+@njit(cache=True)
+def _switch(toggles, n_tog, t, n_sub, elg, dr, F, fmax, cs, cat, act, counts):
+    """Switch the gaps toggles[:n_tog] at time t: an impact's onset (the law's onset hook, its force F[q]
+    [N]) where the gap was open, its end where it was closed.  dr = (d0, r0); counts = (impacts so far,
+    active elements); returns (status, impacts, active elements)."""
+    ne_code, ne_par = elg[3], elg[4]
+    d0, r0 = dr
+    active = cs[0]
+    n_imp, m_act = counts
+    for k in range(n_tog):
+        q = toggles[k]
+        if not active[q]:
+            if n_imp >= cat[0].size:
+                return IMPACT_CAPACITY, n_imp, m_act
+            F[q] = _begin_impact(q, t, d0[q], r0[q], ne_code[q], ne_par[q], n_sub, cs, cat, n_imp)
+            fmax[q] = max(fmax[q], F[q])
+            n_imp += 1
+            act[m_act] = q
+            m_act += 1
+        else:
+            m_act = _end_impact(q, t, r0[q], m_act, act, cs, cat)
+            F[q] = 0.0
+    return OK, n_imp, m_act

@@ -48,6 +48,31 @@ def test_wrong_parameters_that_fit_as_well_name_no_physics():
     assert "wrong parameters" in entries["soil-structure-interaction"]["beaten_by"]
 
 
+def _fit2(a, b):
+    # one trial, two channels: the BIC reads the sum of squares, the NE reported is their mean
+    return SimpleNamespace(ne_mean_after=(a + b) / 2, ne_after={"t": {"c1": a, "c2": b}}, evaluations=1,
+                           parameters={})
+
+
+@pytest.mark.parametrize("soil, named", [((0.0958, 0.0958), False), ((0.0900, 0.0900), True)])
+def test_physics_ahead_of_the_wrong_parameters_by_bic_is_named_only_if_not_behind_them_by_ne(soil, named):
+    """BIC (the residual sum of squares) and the NE reported (the mean over channels) can rank two fits
+    apart: development case 4105-007 named soil second at NE 0.0958, 10.8 BIC units ahead of wrong
+    parameters that reached 0.0909."""
+    ref = _Step(None, _fit2(0.20, 0.20), N_EFF * math.log(2 * 0.20 ** 2 / N) + 4 * math.log(N_EFF), 4)
+    alt = _fit2(0.0018, 0.18)  # mean 0.0909, the error on one channel
+
+    def rss(f):
+        return sum(v * v for v in f.ne_after["t"].values())
+
+    assert N_EFF * math.log(rss(alt) / rss(_fit2(*soil))) > BIC_MARGIN  # soil ahead by BIC either way
+    accepted, entries = _judge([("soil-structure-interaction", (_fit2(*soil), 2, True)),
+                                ("stiffness-distribution", (alt, 2, True))], ref, N, N_EFF, lambda m: None, offset=4)
+    assert ("soil-structure-interaction" in [st.name for st in accepted]) is named
+    if not named:
+        assert "wrong parameters" in entries["soil-structure-interaction"]["beaten_by"]
+
+
 def test_physics_that_beats_the_wrong_parameters_by_the_margin_is_named():
     accepted, _ = _round([("soil-structure-interaction", 0.03, 2), ("stiffness-distribution", 0.05, 2)])
     assert [st.name for st in accepted] == ["soil-structure-interaction", "stiffness-distribution"]

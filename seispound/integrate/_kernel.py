@@ -369,10 +369,9 @@ def integrate_kernel(row, p, init, gaps, motion, settings, modal, multi, outs, c
     ws = (g_w0, g_w1, du_w, u_w1, v_w1, a_w1, L_w, zero_n)  # the waiting buildings' step
     md = (md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam)  # the modal basis, for exact steps
     waits = (exact, ex_co, ex_h, h_ex, md, (mq, mqv, mqa), L_lev[0], p, beta, gamma, (Av, Vv, R0))
-    gnd = (ag, moving, gap_ground)
     wc = (Wc_level, Wc_ok_level, Wc_scratch, Wc_ok_scratch, wc_key, batch)  # Woodbury columns, per factor
     semi = (sig_h, Sd_h, dofs, order, pos, span, Kd, xs)  # the semiseparable inverse of the scratch factor
-    nwt = (Gm, dl, rl, Fm, resv, kt, Sm, ym, gap_law, gap_par, st_c, st_t)  # the contact Newton's work
+    nwt = (Gm, dl, rl, Fm, resv, kt, Sm, ym, st_c, st_t)  # the contact Newton's work
     fac = (L_lev, have_lev, L_h)  # K_hat's factors: per dt/2^k level, and a scratch one
     gf = (F, F1, F_old, h_old)  # the closed gaps' forces: at t, trial, and the last accepted substep's
     mdb = (md_start, md_blocks_t, md_block_off, md_phi_t, md_w2, md_c, md_gam, md_khinv)  # ... free flight's
@@ -412,7 +411,7 @@ def integrate_kernel(row, p, init, gaps, motion, settings, modal, multi, outs, c
                 out_e[pending, E_DAMPING] -= es - es0
                 pending = -1
             n_acc, event, th_hint, g_hint, e_in, w_int = _free_flight(
-                step, nsteps, min(blk, nblk), store, (dt, beta, gamma), gnd, mdb, blocks, row, gaps, (exact, ex_co),
+                step, nsteps, min(blk, nblk), store, (dt, beta, gamma), motion, mdb, blocks, row, gaps, (exact, ex_co),
                 (d0, r0), st, outs, (e_in, w_int, e_cont, es0))
             stats[S_STEPS] += n_acc
             stats[S_FREE_FLIGHT] += n_acc
@@ -442,7 +441,7 @@ def integrate_kernel(row, p, init, gaps, motion, settings, modal, multi, outs, c
         waiting = False
         if n_wrun > 0:
             t_w0 = t
-            n_wrun = _waiting_step((step, t, dt), gnd, g_t, n_wrun, mr, runs, ws, waits, row, gaps, st, (d0, r0),
+            n_wrun = _waiting_step((step, t, dt), motion, g_t, n_wrun, mr, runs, ws, waits, row, gaps, st, (d0, r0),
                                    stats)
             waiting = n_wrun > 0
         if waiting:
@@ -822,17 +821,17 @@ def _contact_newton(kind, lin, act, wc, semi, gaps, trial, gf, age, nwt, opts, s
     offsets); wc = (columns and their flags for the level and the scratch factor, key (3,): the level and
     the step they are for and whether the semiseparable inverse is current, batch); semi = (sig_h, Sd_h,
     dofs, order, pos, span, Kd, xs); trial = (u, Du, Vv, R0, gk); gf = (F, F1, F_old, h_old); nwt = (Gm, dl,
-    rl, Fm, resv, kt, Sm, ym, gap_law, gap_par, st_c, st_t); opts = (rtol, max_iter).
+    rl, Fm, resv, kt, Sm, ym, st_c, st_t); opts = (rtol, max_iter).
     Returns (converged, iterations); F1 holds the forces [N]."""
     lv, h, cc, waiting = kind
     Lf, L_h, p, n_run, runs = lin
     m_act, act_list, n_comp, comp_off = act
     Wc_level, Wc_ok_level, Wc_scratch, Wc_ok_scratch, wc_key, batch = wc
     sig_h, Sd_h, dofs, order, pos, span, Kd, xs = semi
-    gap_i, gap_j, gap_lo, gap_hi, gap_size = gaps[0], gaps[1], gaps[2], gaps[3], gaps[4]
+    gap_i, gap_j, gap_lo, gap_hi, gap_size, gap_law, gap_par = gaps
     u, Du, Vv, R0, gk = trial
     F, F1, F_old, h_old = gf
-    Gm, dl, rl, Fm, resv, kt, Sm, ym, gap_law, gap_par, st_c, st_t = nwt
+    Gm, dl, rl, Fm, resv, kt, Sm, ym, st_c, st_t = nwt
     rtol, max_iter = opts
     r_lo, r_hi = runs[0], runs[1]
     ngw = batch.size

@@ -56,11 +56,14 @@ def _add_to_band(dof, coef, e, c, L):
 
 
 @njit(cache=True)
-def assemble_band(cm, cc, ck, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, L):
+def assemble_band(cm, cc, ck, linear, p, L):
     """L (n, p + 2): the lower band of A = cm M + cc C + ck K, with C = sum a0 m b b^T + sum c b b^T.
 
-    Newmark's K_hat is (1/(beta h^2), gamma/(beta h), 1); the mass matrix is (1, 0, 0).
+    linear = (ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c): the masses and the linear
+    elements (``general_kernel``; more members after these are ignored).  Newmark's K_hat is
+    (1/(beta h^2), gamma/(beta h), 1); the mass matrix is (1, 0, 0).
     """
+    ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = linear[:8]
     for i in range(L.shape[0]):
         for d in range(p + 2):
             L[i, d] = 0.0
@@ -71,8 +74,10 @@ def assemble_band(cm, cc, ck, ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, l
 
 
 @njit(cache=True)
-def linear_bands(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, n):
+def linear_bands(linear, p, n):
     """K and C of a row of n DOFs and half bandwidth p for ``linear_forces``: (KC, sp_i, sp_d, sp_kc).
+
+    linear: the masses and linear elements as ``assemble_band`` takes them.
 
     KC (2, w, n): the lower diagonals d < w of K and of C, each contiguous, KC[0, d, i] = K(i, i - d) for
     i >= d and zero for i < d (``assemble_band``'s entries); w - 1 is the last diagonal with more than
@@ -83,7 +88,7 @@ def linear_bands(ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p,
     L = np.empty((n, p + 2))
     KC = np.zeros((2, p + 1, n))
     for m in range(2):
-        assemble_band(0.0, float(m), float(1 - m), ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c, p, L)
+        assemble_band(0.0, float(m), float(1 - m), linear, p, L)
         for i in range(n):
             for d in range(min(p, i) + 1):
                 KC[m, d, i] = L[i, d]

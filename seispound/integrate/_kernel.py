@@ -898,8 +898,8 @@ def _contact_newton(kind, lin, act, wc, semi, gaps, trial, gf, age, nwt, opts, s
     converged = True
     it = 0
     for c in range(n_comp):
-        ok_c, it_c = _newton(comp_off[c], comp_off[c + 1], act_list, Gm, dl, rl, Fm, cc,
-                             gap_law, gap_par, st_c, st_t, scale, rtol, max_iter, resv, kt, Sm, ym)
+        ok_c, it_c = _newton((comp_off[c], comp_off[c + 1], act_list), Gm, (dl, rl, Fm, cc), gap_law, gap_par,
+                             (st_c, st_t), (scale, rtol, max_iter), (resv, kt, Sm, ym))
         converged = converged and ok_c
         it = max(it, it_c)
         if not ok_c:

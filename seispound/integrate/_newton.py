@@ -16,17 +16,21 @@ from ._material import material_trial
 
 
 @njit(cache=True, inline="always")
-def _trial(code, par, st_c, st_t, q, k, s1, dl, rl, cc, Fm, resv, kt):
+def _trial(code, par, states, q, k, s1, lin, Fm, resv, kt):
     """Element q's law at its linear-step deformation less s1 = (G F)_k: the residual F - f and the
-    consistent tangent d f/d delta + cc d f/d rate into resv[k] and kt[k]; returns f [N]."""
-    f, dfd, dfv = material_trial(code[q], par, st_c, st_t, q, dl[k] - s1, rl[k] - cc * s1)
+    consistent tangent d f/d delta + cc d f/d rate into resv[k] and kt[k]; returns f [N].
+
+    states = (st_c, st_t): the committed and trial states; lin = (dl, rl, cc): the linear step's
+    deformations [m] and rates [m/s] and gamma/(beta h) [1/s]."""
+    dl, rl, cc = lin
+    f, dfd, dfv = material_trial(code[q], par, states[0], states[1], q, dl[k] - s1, rl[k] - cc * s1)
     resv[k] = Fm[k] - f
     kt[k] = dfd + cc * dfv
     return f
 
 
 @njit(cache=True, inline="always")
-def _newton(lo, hi, act, Gm, dl, rl, Fm, cc, code, par, st_c, st_t, scale, rtol, max_iter, resv, kt, Sm, ym):
+def _newton(grp, Gm, trial, code, par, states, tol, work):
     """Newton-Raphson on the forces Fm[lo:hi] of one group of active elements (both drivers).
 
     The deformation and rate of element act[k] are dl[k] - (G F)_k and rl[k] - cc (G F)_k
@@ -34,8 +38,15 @@ def _newton(lo, hi, act, Gm, dl, rl, Fm, cc, code, par, st_c, st_t, scale, rtol,
     ``_kernel``'s module docstring).  Each law is evaluated through the material protocol
     (``_material.material_trial``: from its committed state st_c into st_t, which a redone
     step simply overwrites); the residual F - F_law is tested against rtol times the largest
-    of ``scale`` and the forces.  Returns (converged, iterations beyond the first evaluation).
+    of ``scale`` and the forces.  grp = (lo, hi, act); trial = (dl, rl, Fm, cc): the linear step's
+    deformations [m] and rates [m/s], the forces [N] iterated, gamma/(beta h) [1/s]; states = (st_c,
+    st_t); tol = (scale [N], rtol, max_iter); work = (resv, kt, Sm, ym).  Returns (converged,
+    iterations beyond the first evaluation).
     """
+    lo, hi, act = grp
+    dl, rl, Fm, cc = trial
+    scale, rtol, max_iter = tol
+    resv, kt, Sm, ym = work
     m = hi - lo
     it = 0
     while True:
@@ -45,7 +56,7 @@ def _newton(lo, hi, act, Gm, dl, rl, Fm, cc, code, par, st_c, st_t, scale, rtol,
             s1 = 0.0
             for r in range(lo, hi):
                 s1 += Gm[k, r] * Fm[r]
-            f = _trial(code, par, st_c, st_t, act[k], k, s1, dl, rl, cc, Fm, resv, kt)
+            f = _trial(code, par, states, act[k], k, s1, (dl, rl, cc), Fm, resv, kt)
             rn = max(rn, abs(resv[k]))
             sc = max(sc, abs(f))
         if rn <= rtol * sc:

@@ -506,8 +506,9 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
             tuple(row["linear"]), int(tab["p"]), row["numbering"], tuple(row["elements"]),
             np.zeros((nn, N_STATE)), (*f(ag), moving, *f(ground)), (u0, v0),
             (float(dt), int(nsteps), float(nm.beta), float(nm.gamma), (_substeps(nm), float(contact_step)),
-             float(nm.rtol), int(nm.max_iter), bool(store_history)), (bool(tangent), int(p_tangent), lev_free),
-            (ff_args, el_pred), tuple(out[k] for k in _OUTPUTS), tuple(out[k] for k in _CATALOGUE), out["stats"]),
+             float(nm.rtol), int(nm.max_iter), bool(store_history)),
+            (bool(tangent), int(p_tangent), lev_free, ff_args, el_pred), tuple(out[k] for k in _OUTPUTS),
+            tuple(out[k] for k in _CATALOGUE), out["stats"]),
             out)
 
     n_imp, out = _run_growing(run, cap)

@@ -158,8 +158,7 @@ def _gap_event(d0, r0, d1, r1, h, closed, landed):
 
 
 @njit(cache=True, inline="always")
-def _screen_step(waiting, scr, n_ss, n_scr, gap_i, gap_j, gap_size, gap_law, active, u, Du, Vv, cc, h, gk,
-                 d0, r0, d_end, r_end, landed, target, land_too):
+def _screen_step(waiting, screened, gaps, active, trial, h, gk, states, aim, land_too):
     """The event screen of a trial step of length h: the first event of any gap; (theta, gap, waits, n_land).
 
     Every gap, or while some building waits the gaps listed in ``scr`` (those
@@ -169,8 +168,15 @@ def _screen_step(waiting, scr, n_ss, n_scr, gap_i, gap_j, gap_size, gap_law, act
     whether that gap has a waiting side.  When the step ``landed`` on the event
     of gap ``target``, gaps at their own crossing within the landing tolerance
     are listed in ``land_too`` (n_land of them): they switch together.
+    screened = (scr, n_ss, n_scr); gaps as the kernel's; trial = (u, Du, Vv, cc); states = (d0, r0,
+    d_end, r_end); aim = (landed, target).
     (Inlined at numba IR level: as a called function it cost 17 % per run.)
     """
+    scr, n_ss, n_scr = screened
+    gap_i, gap_j, gap_size, gap_law = gaps[0], gaps[1], gaps[4], gaps[5]
+    u, Du, Vv, cc = trial
+    d0, r0, d_end, r_end = states
+    landed, target = aim
     theta = 2.0
     g_ev = -1
     ev_waits = False

@@ -83,11 +83,17 @@ def _block_matvec_range(md_start, A, x, y, transposed, lo, hi):
 
 
 @njit(cache=True)
-def _march_exact(k0, k1, P, co, md_c, md_w2, mq, mqv, mqa, Q, QV, QA, DQ):
+def _march_exact(span, P, co, modes, state, hist):
     """Steps k0..k1-1 of every mode by the exact recurrence (Nigam & Jennings 1969; ``_exact.py``).
 
-    The acceleration follows from each mode's equation, q'' = P - c q' - w2 q.
+    The acceleration follows from each mode's equation, q'' = P - c q' - w2 q.  span = (k0, k1); P the modal
+    loads; co the exact coefficients; modes = (md_c, md_w2); state = (mq, mqv, mqa), carried; hist = (Q, QV,
+    QA, DQ) the steps' histories.
     """
+    k0, k1 = span
+    md_c, md_w2 = modes
+    mq, mqv, mqa = state
+    Q, QV, QA, DQ = hist
     fqq, fqv, fvq, fvv = co[F_QQ], co[F_QV], co[F_VQ], co[F_VV]  # one contiguous row each: vectorised over j
     g0q, g0v, g1q, g1v = co[G0_Q], co[G0_V], co[G1_Q], co[G1_V]
     for k in range(k0, k1):
@@ -108,10 +114,11 @@ def _march_exact(k0, k1, P, co, md_c, md_w2, mq, mqv, mqa, Q, QV, QA, DQ):
 
 
 @njit(cache=True)
-def _free_flight(step0, nsteps, nblk, store, nmk, gnd, mdb, blocks, row, gaps, exact_co, dr, st, outs, energy):
+def _free_flight(span, nmk, gnd, mdb, blocks, row, gaps, exact_co, dr, st, outs, energy):
     """March up to ``nblk`` analysis steps from step0 with every gap open, in modal coordinates.
 
-    Tuples (``_kernel.integrate_kernel``'s): nmk = (dt [s], beta, gamma); gnd = (ag, moving, gap_ground);
+    Tuples (``_kernel.integrate_kernel``'s): span = (step0, nsteps, nblk, store: the histories are written);
+    nmk = (dt [s], beta, gamma); gnd = (ag, moving, gap_ground);
     mdb = (md_start, md_blocks_t, md_block_off, md_phi_t, md_w2, md_c, md_gam, md_khinv) the modal basis;
     blocks = (s_in, s_out, mq, mqv, mqa, Q, QV, QA, DQ, P, U, V, f_start, Eb) the modal state and block work
     arrays; row, gaps, st, outs as the kernel's; exact_co = (exact, ex_co); dr = (d0, r0) the gaps'
@@ -131,6 +138,7 @@ def _free_flight(step0, nsteps, nblk, store, nmk, gnd, mdb, blocks, row, gaps, e
     its gap, e_in, w_int).  After an event the modal state is stale (it ran on
     to the block's end).
     """
+    step0, nsteps, nblk, store = span
     dt, beta, gamma = nmk
     ag, moving, gap_ground = gnd
     md_start, md_blocks_t, md_block_off, md_phi_t, md_w2, md_c, md_gam, md_khinv = mdb
@@ -177,7 +185,7 @@ def _free_flight(step0, nsteps, nblk, store, nmk, gnd, mdb, blocks, row, gaps, e
     while k0 < nb and n_acc == nb:
         k1 = min(k0 + chunk, nb)
         if exact:
-            _march_exact(k0, k1, P, ex_co, md_c, md_w2, mq, mqv, mqa, Q, QV, QA, DQ)
+            _march_exact((k0, k1), P, ex_co, (md_c, md_w2), (mq, mqv, mqa), (Q, QV, QA, DQ))
         for k in range(k0, k1 if not exact else k0):
             for j in range(n):  # every mode at once: vectorised over j
                 av = -c1 * mqv[j] - c2 * mqa[j]
@@ -265,8 +273,7 @@ def _free_flight(step0, nsteps, nblk, store, nmk, gnd, mdb, blocks, row, gaps, e
 
 
 @njit(cache=True)
-def _exact_trial(h, g_t, g_1, beta, gamma, md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam, co, h_co,
-                 u, v, q, qv, qa, Du, Vv, Av):
+def _exact_trial(h, grd, nb, md, coef, st, mqs, incr):
     """A step of size h [s] of the whole row with every gap open, exact for the piecewise-linear ground motion.
 
     The physical path's step around events (the rest of a step after an impact,
@@ -275,10 +282,19 @@ def _exact_trial(h, g_t, g_1, beta, gamma, md_start, md_phi_t, md_phi_tm, md_w2,
     h differs from h_co[0]).  The result is returned in the Newmark form the
     rest of the step expects: u1 = u + Du, v1 = Vv + cc Du, a1 = Av + cm Du
     (cc = gamma / (beta h), cm = 1 / (beta h^2)), so screening, events and
-    acceptance run unchanged.  g_t, g_1 (nm,): ground accelerations at the
-    step's ends; q, qv, qa (n,) scratch.  Returns sum (K u)_i u_i at the start
-    (twice the strain energy), as the Newmark predictor does.
+    acceptance run unchanged.  grd = (g_t, g_1) (nm,): ground accelerations at the
+    step's ends; nb = (beta, gamma); md = (md_start, md_phi_t, md_phi_tm, md_w2, md_c,
+    md_gam) the modal basis; coef = (co, h_co); st = (u, v, ...); mqs = (q, qv, qa) (n,)
+    scratch; incr = (Du, R0, Av, Vv).  Returns sum (K u)_i u_i at the start (twice the
+    strain energy), as the Newmark predictor does.
     """
+    g_t, g_1 = grd
+    beta, gamma = nb
+    md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam = md
+    co, h_co = coef
+    u, v = st[0], st[1]
+    q, qv, qa = mqs
+    Du, Av, Vv = incr[0], incr[2], incr[3]
     n = u.size
     if h != h_co[0]:
         exact_coefficients(md_w2, md_c, h, co)
@@ -302,8 +318,7 @@ def _exact_trial(h, g_t, g_1, beta, gamma, md_start, md_phi_t, md_phi_tm, md_w2,
 
 
 @njit(cache=True)
-def _exact_waiting(lo, hi, co, g0, g1, md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam, u, v, du_w, u_w1, v_w1,
-                   a_w1, q, qv, qa):
+def _exact_waiting(rows, co, grd, md, x0, wend, mqs):
     """A waiting step of the buildings on DOFs lo..hi-1, exact for the piecewise-linear ground motion.
 
     Multi-rate stepping's one step per analysis step (``_multirate._waiting_trial``)
@@ -311,9 +326,17 @@ def _exact_waiting(lo, hi, co, g0, g1, md_start, md_phi_t, md_phi_tm, md_w2, md_
     recurrence (coefficients ``co`` (8, n) for the step's length; ``_exact.py``),
     with g0, g1 (nm,) the ground accelerations at the step's ends.  The end
     state goes to u_w1, v_w1, a_w1 and the increment to du_w, as
-    ``_waiting_trial`` leaves them (u, v stay until ``_waiting_commit``).  q, qv, qa (n,):
-    scratch (the caller's modal state, stale on the physical path).
+    ``_waiting_trial`` leaves them (u, v stay until ``_waiting_commit``).  rows = (lo, hi);
+    grd = (g0, g1); md the modal basis (``_exact_trial``); x0 = (u, v); wend = (du_w, u_w1,
+    v_w1, a_w1); mqs = (q, qv, qa) (n,): scratch (the caller's modal state, stale on the
+    physical path).
     """
+    lo, hi = rows
+    g0, g1 = grd
+    md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam = md
+    u, v = x0
+    du_w, u_w1, v_w1, a_w1 = wend
+    q, qv, qa = mqs
     _block_matvec_range(md_start, md_phi_tm, u, q, False, lo, hi)
     _block_matvec_range(md_start, md_phi_tm, v, qv, False, lo, hi)
     _modal_steps(co, g0, g1, md_w2, md_c, md_gam, q, qv, qa, lo, hi)

@@ -961,7 +961,7 @@ def _general_work(n, nn, nm, bands, n_ff, dt, state0, init):
     return fac, st, lists, nwt, tang, elem, ev, fl
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _physical_step(t_end, ls, energy, cfg, model, work, outs, cat, stats):
     """The rest of the analysis step ending at t_end [s] on the physical path: Newmark steps (contact
     substeps while a gap is closed), each by attempts of factor, predictor and Newton (``_iterate``) and

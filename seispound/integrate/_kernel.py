@@ -131,6 +131,8 @@ from ._outputs import (  # noqa: F401 (re-exported)
     S_WAITING,
 )
 
+N_LEV = 40  # K_hat's factors kept for h = dt / 2^k, k < N_LEV
+
 
 @njit(cache=True)
 def integrate_kernel(row, p, init, gaps, motion, settings, modal, multi, outs, cat, stats):
@@ -177,93 +179,112 @@ def integrate_kernel(row, p, init, gaps, motion, settings, modal, multi, outs, c
     # arguments: alive for the whole call, so borrowed (``_borrow``: no reference counting in the loop)
     row, init, gaps, motion, modal, multi, outs, cat = borrow_all((row, init, gaps, motion, modal, multi, outs, cat))
     stats = borrow(stats)
-    mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1 = row
-    u_init, v_init = init
-    gap_i, gap_j, gap_lo, gap_hi, gap_size, gap_law, gap_par = gaps
-    ag, moving, gap_ground = motion
     dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store = settings
-    use_modal, md_start, md_blocks_t, md_block_off, md_phi_t, md_phi_tm, md_w2, md_c, md_gam, nblk, exact, ex_co = modal
-    multirate, wait_share, blk_dof, blk_el = multi
-    out_u, out_v, out_a, out_f, out_e, umax, fmax = outs
-    imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e = cat
-    n = mass.size
-    ng = gap_size.size
-    nm = ag.shape[0]
-    # -- work arrays (allocated once; the loop allocates nothing) ------------
-    # factors of K_hat for h = dt / 2^k (contact substeps stay on this grid,
-    # so each level is factored once) plus one scratch factor for odd steps
-    n_lev = 40
-    L_lev = np.empty((n_lev, n, p + 2))
-    have_lev = np.zeros(n_lev, np.bool_)
-    h_lev = np.empty(n_lev)
-    for k in range(n_lev):
-        h_lev[k] = dt / 2.0**k
-    L_h = np.empty((n, p + 2))
-    u = u_init.copy()
-    v = v_init.copy()
-    a = np.empty(n)
-    fint = np.empty(n)  # storey + damping forces in equilibrium with (u, v)
-    fs = np.empty(n)
-    fd = np.empty(n)
-    Du = np.empty(n)  # u1 - u, kept separately: recomputing it loses digits on short steps
-    R0 = np.empty(n)
-    Av = np.empty(n)
-    Vv = np.empty(n)
+    n = row[0].size
+    # the work arrays (``_fast_work``): owned by this tuple (kept alive to the end), used through borrowed aliases
+    owners = _fast_work(n, motion[0].shape[0], p, settings, modal, multi, gaps, init)
+    fac, st, incr, wc, semi, nwt0, lists, csa, gf, ev, mr6, runs, ws, blocks, mw = borrow_all(owners)
+    cs = (csa[0], csa[1], csa[3], csa[4], csa[5])  # each gap's contact state (``_contact._begin_impact``)
+    mr = (multi[2], multi[3]) + mr6  # multi-rate: who steps
+    md = (modal[1], modal[4], modal[5], modal[6], modal[7], modal[8])  # the modal basis, for exact steps
+    work = (fac, st, incr, wc, semi, nwt0 + (csa[1], csa[2]), lists, cs, gf, ev, mr, runs, ws, blocks, mw)
+    for s in range(stats.size):
+        stats[s] = 0
+    if not _factor(dt, beta, gamma, row[0], row[1], row[3], row[4], row[5], row[6], p, fac[0][0]):
+        return NEWTON_FAILED, 0, 0.0
+    fac[1][0] = True
+    stats[S_FACTORIZATIONS] += 1
+    # -- initial state: gaps already closing at t = 0 (touching bodies) start an impact; output row 0
+    status, n_imp, m_act, n_comp, e_in, es0 = _start(dt, motion[0], row, gaps, n_sub, st, gf[0], cs, cat, outs, ev,
+                                                     lists)
+    if status != OK:
+        return status, n_imp, 0.0
+    n_run = _runs(mr[5], True, mr[0], mr[1], runs[0], runs[1], runs[2], runs[3])
+    n_ss, n_scr = _screen_list(mr[5], mr[3], mr[4], mr[7])
+    model = (row, p, gaps, motion, settings, modal, multi, md, es0)
+    cnt = (n_imp, m_act, n_comp)  # impacts, gaps closed, their groups
+    energy = (e_in, 0.0, 0.0)  # input, storey + damping work (damping = it - strain change), contact [J]
+    ps = (-1.0, -1, n_run, n_ss, n_scr, n)  # the scratch factor's step, a gap aimed at, who steps (``_stepping``)
+    fb = (0, 16, -1, 2.0, -1, False)  # free-flight blocks: first step, length, event hint, modal state current
+    t = 0.0
+    pending = -1  # output row still waiting for its strain energy
+    step = 0
+    while step < nsteps:
+        if modal[0] and cnt[1] == 0 and step >= fb[0]:
+            # ---- every gap open: march a block of steps in modal coordinates
+            step, t, pending, fb, energy = _flight_block(step, pending, fb, energy, model, work, outs, stats)
+            continue
+        fb = fb[:5] + (False,)
+        # ---- the PHYSICAL PATH: substeps, attempts, events
+        status, t, pending, cnt, ps, energy = _physical_step((step, t, pending), cnt, ps, fb, energy, model, work,
+                                                             outs, cat, stats)
+        if status != OK:
+            return status, cnt[0], t
+        step += 1
+        if store:  # (the no-pounding twin keeps its peaks only: no histories to write)
+            _output_row(step, st, ev[5], row, gf[0], outs, energy)
+            pending = step
+    if pending >= 0:
+        _last_strain(pending, row, st, es0, outs[4])
+    keep_alive(owners)
+    return OK, cnt[0], t
+
+
+@njit(cache=True)
+def _fast_work(n, nm, p, settings, modal, multi, gaps, init):
+    """The fast driver's work arrays, allocated once (its loop allocates nothing), in named groups.
+
+    n DOFs, nm motion rows, p the half bandwidth; the other arguments as ``integrate_kernel`` takes them.
+    Returns (fac, st, incr, wc, semi, nwt, lists, cs, gf, ev, mr, runs, ws, blocks, mw):
+    fac = (L_lev, have_lev, L_h): K_hat's factors for h = dt / 2^k (contact substeps stay on this grid, so
+    each level is factored once) and one scratch factor for odd steps;
+    st = (u, v, a, fint, fs, fd): the state and the storey + damping forces in equilibrium with it;
+    incr = (Du, R0, Av, Vv): the step's increment (kept apart: recomputing u1 - u loses digits on short
+    steps), the predictor's residual and Newmark's terms;
+    wc = (Wc_level, Wc_ok_level, Wc_scratch, Wc_ok_scratch, wc_key, batch): the Woodbury columns
+    K_hat^-1 b_g of the level and the scratch factor (nonzero only on the DOFs of the two buildings a gap
+    links), the level and the step they are for and whether the semiseparable inverse is current;
+    semi = (sig_h, Sd_h, dofs, order, pos, span, Kd, xs): the scratch factor's semiseparable inverse
+    (tridiagonal or diagonal K_hat only), computed when a located step with several gaps closed needs it;
+    nwt = (Gm, dl, rl, Fm, resv, kt, Sm, ym): the contact Newton's work;
+    lists = (act_list, comp_off, toggles, land_too): the closed gaps in groups that share no building, the
+    gaps switched together;
+    cs = (active, st_c, st_t, hsub, age, cur_imp): each gap's contact and law state;
+    gf = (F, F1, F_old, h_old): the gaps' forces at t, in the trial and at the last accepted substep;
+    ev = (d0, r0, d_end, r_end, gk, g_t, g_1): each gap's penetration and rate at the step's start and
+    end, its differential ground terms (rows GU0, GV0 at t, GU1, GV1 at the trial's end: one array, since
+    each live array in the loop costs registers), the ground accelerations at t and the trial's end;
+    mr = (dof_blk, gb_lo, gb_hi, in_s, was_s, scr): each DOF's building, the buildings each gap links,
+    who steps now and before, the gaps screened (``_multirate``); runs: the stepping and waiting runs;
+    ws = (g_w0, g_w1, du_w, u_w1, v_w1, a_w1, L_w, zero_n): the waiting step;
+    blocks: the free-flight blocks' modal state and histories (``_free_flight``);
+    mw = (md_khinv, ex_h, h_ex, h_lev): the modal K_hat^-1, the exact step's coefficients for the last odd
+    step h_ex[0], and h per level.
+    """
+    dt, beta, gamma = settings[0], settings[2], settings[3]
+    use_modal, md_w2, md_c, nblk, exact = modal[0], modal[6], modal[7], modal[9], modal[10]
+    blk_dof, gap_lo, gap_hi = multi[2], gaps[2], gaps[3]
+    ng = gaps[4].size
     ngw = max(ng, 1)
-    # semiseparable ratios and diagonal of the scratch factor's K_hat^-1 (tridiagonal
-    # or diagonal K_hat only), computed when a located step with several gaps
-    # closed needs them; every other step uses the cached Woodbury columns below
     tri = p <= 1
-    sig_h = np.empty(n if tri else 1)
-    Sd_h = np.empty(n if tri else 1)
-    # Woodbury columns K_hat^-1 b_g for the current factor: nonzero only on the
-    # DOFs gap_lo[g]..gap_hi[g]-1 of the two buildings the gap links (zero elsewhere)
-    # (two sets: the level factor's, which survive an odd located step in
-    # between, and the scratch factor's)
-    Wc_level = np.zeros((ngw, n))
-    Wc_scratch = np.zeros((ngw, n))
-    batch = np.empty(ngw, np.int64)
-    Wc_ok_level = np.zeros(ngw, np.bool_)
-    Wc_ok_scratch = np.zeros(ngw, np.bool_)
-    wc_key = np.array([-2.0, -1.0, 0.0])  # the level and the step the cached columns are for; inverse ok?
-    dofs = np.empty(2 * ngw, np.int64)
-    order = np.empty(2 * ngw, np.int64)
-    pos = np.empty(2 * ngw, np.int64)
-    span = np.empty(2 * ngw)
-    Kd = np.empty((2 * ngw, 2 * ngw) if tri else (1, 1))
-    xs = np.empty(n)
-    Sm = np.empty((ngw, ngw))
-    Gm = np.empty((ngw, ngw))  # B^T K_hat^-1 B for the gaps in contact
-    ym = np.empty(ngw)
-    Fm = np.empty(ngw)  # contact forces of the active gaps (Newton unknowns)
-    dl = np.empty(ngw)  # their penetration and rate after the linear predictor
-    rl = np.empty(ngw)
-    resv = np.empty(ngw)
-    act_list = np.empty(ngw, np.int64)
-    comp_off = np.empty(ngw + 1, np.int64)  # the closed gaps' independent groups (``_group_contacts``)
-    toggles = np.empty(ngw, np.int64)  # gaps switched together at one instant
-    land_too = np.empty(ngw, np.int64)
-    active = np.zeros(ng, np.bool_)
-    st_c = np.zeros((ng, N_STATE))  # the laws' committed and trial states (``_material``: zeta, e at onset)
-    st_t = np.zeros((ng, N_STATE))
-    hsub = np.zeros(ng)
-    age = np.zeros(ng, np.int64)  # accepted substeps since the onset of the impact
-    cur_imp = -np.ones(ng, np.int64)
-    F = np.zeros(ng)  # contact forces in equilibrium with (u, v)
-    F1 = np.zeros(ng)
-    F_old = np.zeros(ng)  # force and length of each closed gap's last accepted substep
-    h_old = np.ones(ng)
-    kt = np.zeros(ng)
-    d0 = np.empty(ng)  # penetration and rate of every gap at the start of the step
-    r0 = np.empty(ng)
-    d_end = np.empty(ng)  # ... at the end of the trial step (swapped in on acceptance)
-    r_end = np.empty(ng)
-    # differential ground displacement and velocity of every gap at t (rows GU0, GV0) and at the end of
-    # the trial step (GU1, GV1); zero under one ground motion.  (One array, not four: each live array
-    # in the time loop costs registers in its hot loops.)
-    gk = np.zeros((4, ng))
-    g_t = np.empty(nm)  # ground acceleration at t, per motion row
-    # -- multi-rate stepping: buildings that step (in_s) and that wait ------
+    h_lev = np.empty(N_LEV)
+    for k in range(N_LEV):
+        h_lev[k] = dt / 2.0**k
+    fac = (np.empty((N_LEV, n, p + 2)), np.zeros(N_LEV, np.bool_), np.empty((n, p + 2)))
+    st = (init[0].copy(), init[1].copy(), np.empty(n), np.empty(n), np.empty(n), np.empty(n))
+    incr = (np.empty(n), np.empty(n), np.empty(n), np.empty(n))
+    wc = (np.zeros((ngw, n)), np.zeros(ngw, np.bool_), np.zeros((ngw, n)), np.zeros(ngw, np.bool_),
+          np.array([-2.0, -1.0, 0.0]), np.empty(ngw, np.int64))
+    semi = (np.empty(n if tri else 1), np.empty(n if tri else 1), np.empty(2 * ngw, np.int64),
+            np.empty(2 * ngw, np.int64), np.empty(2 * ngw, np.int64), np.empty(2 * ngw),
+            np.empty((2 * ngw, 2 * ngw) if tri else (1, 1)), np.empty(n))
+    nwt = (np.empty((ngw, ngw)), np.empty(ngw), np.empty(ngw), np.empty(ngw), np.empty(ngw), np.zeros(ng),
+           np.empty((ngw, ngw)), np.empty(ngw))
+    lists = (np.empty(ngw, np.int64), np.empty(ngw + 1, np.int64), np.empty(ngw, np.int64), np.empty(ngw, np.int64))
+    cs = (np.zeros(ng, np.bool_), np.zeros((ng, N_STATE)), np.zeros((ng, N_STATE)), np.zeros(ng),
+          np.zeros(ng, np.int64), -np.ones(ng, np.int64))
+    gf = (np.zeros(ng), np.zeros(ng), np.zeros(ng), np.ones(ng))
+    ev = (np.empty(ng), np.empty(ng), np.empty(ng), np.empty(ng), np.zeros((4, ng)), np.empty(nm), np.empty(nm))
     nbk = blk_dof.size - 1
     dof_blk = np.empty(n, np.int64)
     for b in range(nbk):
@@ -274,392 +295,416 @@ def integrate_kernel(row, p, init, gaps, motion, settings, modal, multi, outs, c
     for g in range(ng):
         gb_lo[g] = dof_blk[gap_lo[g]]
         gb_hi[g] = dof_blk[gap_hi[g] - 1] + 1
-    in_s = np.ones(nbk, np.bool_)
-    was_s = np.ones(nbk, np.bool_)
-    r_lo = np.empty(nbk, np.int64)  # runs of stepping buildings: DOF and element ranges
-    r_hi = np.empty(nbk, np.int64)
-    r_elo = np.empty(nbk, np.int64)
-    r_ehi = np.empty(nbk, np.int64)
-    w_lo = np.empty(nbk, np.int64)  # ... of waiting buildings
-    w_hi = np.empty(nbk, np.int64)
-    w_elo = np.empty(nbk, np.int64)
-    w_ehi = np.empty(nbk, np.int64)
-    n_run = _runs(in_s, True, blk_dof, blk_el, r_lo, r_hi, r_elo, r_ehi)
-    n_wrun = 0
-    n_s_dof = n  # DOFs of the stepping buildings
-    scr = np.empty(ngw, np.int64)  # gaps screened at every step: those linking a stepping building
-    n_ss, n_scr = _screen_list(in_s, gb_lo, gb_hi, scr)
-    waiting = False  # some buildings wait in this analysis step
-    t_w0 = 0.0  # start of the waiting step, and the ground acceleration there
-    g_w0 = np.empty(nm)
-    g_w1 = np.empty(nm)
-    du_w = np.empty(n)  # the waiting step: increment and end state
-    u_w1 = np.empty(n)
-    v_w1 = np.empty(n)
-    a_w1 = np.empty(n)
-    L_w = np.empty((n, p + 2))  # factor of a joining building's catch-up step
-    zero_n = np.zeros(n)
-    g_1 = np.empty(nm)  # ... at the end of the trial step
-    for s in range(stats.size):
-        stats[s] = 0
-    n_imp = 0
-    # free-flight blocks: modal state and block histories (time-contiguous rows)
+    mr = (dof_blk, gb_lo, gb_hi, np.ones(nbk, np.bool_), np.ones(nbk, np.bool_), np.empty(ngw, np.int64))
+    runs = (np.empty(nbk, np.int64), np.empty(nbk, np.int64), np.empty(nbk, np.int64), np.empty(nbk, np.int64),
+            np.empty(nbk, np.int64), np.empty(nbk, np.int64), np.empty(nbk, np.int64), np.empty(nbk, np.int64))
+    ws = (np.empty(nm), np.empty(nm), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty((n, p + 2)),
+          np.zeros(n))
     nbw = nblk if use_modal else 1
     nq = n if use_modal or exact else 0
-    mq = np.empty(nq)
-    mqv = np.empty(nq)
-    mqa = np.empty(nq)
-    Qb = np.empty((nbw, nq))
-    QVb = np.empty((nbw, nq))
-    QAb = np.empty((nbw, nq))
-    DQb = np.empty((nbw, nq))
-    Pb = np.empty((nbw + 1, nq))
-    Ub = np.empty((nbw, nq))
-    Vb = np.empty((nbw, nq))
-    f_start = np.empty(nq)
-    s_in = np.empty(nbw * nq)  # scratch of the per-block products
-    s_out = np.empty(nbw * nq)
-    Eb = np.empty((4, nbw))
+    blocks = (np.empty(nbw * nq), np.empty(nbw * nq), np.empty(nq), np.empty(nq), np.empty(nq), np.empty((nbw, nq)),
+              np.empty((nbw, nq)), np.empty((nbw, nq)), np.empty((nbw, nq)), np.empty((nbw + 1, nq)),
+              np.empty((nbw, nq)), np.empty((nbw, nq)), np.empty(nq), np.empty((4, nbw)))
     md_khinv = np.empty(nq)
-    ex_h = np.empty((8, nq if exact else 0))  # exact step coefficients for the last odd step h_ex[0]
-    h_ex = np.full(1, -1.0)
     for j in range(nq):
         md_khinv[j] = 1.0 / (md_w2[j] + gamma / (beta * dt) * md_c[j] + 1.0 / (beta * dt * dt))
-    modal_current = False  # does (q, qv, qa) hold the current state?
-    block_from = 0  # first analysis step that may start a free-flight block
-    blk = 16  # current block length: short after an impact, doubling up to nblk
-    aim_gap = -1  # a gap whose event the last accepted step stopped just short of
-    hint_step = -1  # the step in which a block saw an event, its fraction and gap
-    th_hint = 2.0
-    g_hint = -1
-
-    # the work arrays: owned by this tuple (kept alive to the end), used through borrowed aliases
-    owners = (L_lev, have_lev, h_lev, L_h, u, v, a, fint, fs, fd, Du, R0, Av, Vv, sig_h, Sd_h, Wc_level, Wc_scratch,
-              batch, Wc_ok_level, Wc_ok_scratch, dofs, order, pos, span, Kd, xs, Sm, Gm, ym, Fm, dl, rl, resv,
-              act_list, comp_off, toggles, land_too, active, st_c, st_t, hsub, age, cur_imp, F, F1, F_old, h_old, kt, d0,
-              r0, d_end, r_end, gk, g_t, dof_blk, gb_lo, gb_hi, in_s, was_s, r_lo, r_hi, r_elo, r_ehi,
-              w_lo, w_hi, w_elo, w_ehi, scr, g_w0, g_w1, du_w, u_w1, v_w1, a_w1, L_w, zero_n, g_1, mq, mqv, mqa, Qb,
-              QVb, QAb, DQb, Pb, Ub, Vb, f_start, s_in, s_out, Eb, md_khinv, wc_key)
-    wc_key = borrow(wc_key)
-    L_lev, have_lev, h_lev, L_h, u = borrow(L_lev), borrow(have_lev), borrow(h_lev), borrow(L_h), borrow(u)
-    v, a, fint, fs, fd, Du, R0 = borrow(v), borrow(a), borrow(fint), borrow(fs), borrow(fd), borrow(Du), borrow(R0)
-    Av, Vv, sig_h, Sd_h, Wc_level = borrow(Av), borrow(Vv), borrow(sig_h), borrow(Sd_h), borrow(Wc_level)
-    Wc_scratch, batch, Wc_ok_level = borrow(Wc_scratch), borrow(batch), borrow(Wc_ok_level)
-    Wc_ok_scratch, dofs, order, pos = borrow(Wc_ok_scratch), borrow(dofs), borrow(order), borrow(pos)
-    span, Kd, xs, Sm, Gm, ym = borrow(span), borrow(Kd), borrow(xs), borrow(Sm), borrow(Gm), borrow(ym)
-    Fm, dl, rl, resv, act_list = borrow(Fm), borrow(dl), borrow(rl), borrow(resv), borrow(act_list)
-    comp_off, toggles, land_too, active = borrow(comp_off), borrow(toggles), borrow(land_too), borrow(active)
-    hsub, age, cur_imp, F = borrow(hsub), borrow(age), borrow(cur_imp), borrow(F)
-    st_c, st_t = borrow(st_c), borrow(st_t)
-    F1, F_old, h_old, kt, d0, r0 = borrow(F1), borrow(F_old), borrow(h_old), borrow(kt), borrow(d0), borrow(r0)
-    d_end, r_end, g_t, dof_blk, gb_lo = borrow(d_end), borrow(r_end), borrow(g_t), borrow(dof_blk), borrow(gb_lo)
-    gk = borrow(gk)
-    gb_hi, in_s, was_s, r_lo, r_hi = borrow(gb_hi), borrow(in_s), borrow(was_s), borrow(r_lo), borrow(r_hi)
-    r_elo, r_ehi, w_lo, w_hi, w_elo = borrow(r_elo), borrow(r_ehi), borrow(w_lo), borrow(w_hi), borrow(w_elo)
-    w_ehi, scr, g_w0, g_w1, du_w = borrow(w_ehi), borrow(scr), borrow(g_w0), borrow(g_w1), borrow(du_w)
-    u_w1, v_w1, a_w1, L_w, zero_n = borrow(u_w1), borrow(v_w1), borrow(a_w1), borrow(L_w), borrow(zero_n)
-    g_1, mq, mqv, mqa, Qb, QVb = borrow(g_1), borrow(mq), borrow(mqv), borrow(mqa), borrow(Qb), borrow(QVb)
-    QAb, DQb, Pb, Ub, Vb, f_start = borrow(QAb), borrow(DQb), borrow(Pb), borrow(Ub), borrow(Vb), borrow(f_start)
-    s_in, s_out, Eb, md_khinv = borrow(s_in), borrow(s_out), borrow(Eb), borrow(md_khinv)
-    # the named groups of arrays that the phases take (tuples of the borrowed arrays above)
-    cs = (active, st_c, hsub, age, cur_imp)  # each gap's contact state (``_contact._begin_impact``)
-    st = (u, v, a, fint, fs, fd)  # the state and the internal forces in equilibrium with it
-    runs = (r_lo, r_hi, r_elo, r_ehi, w_lo, w_hi, w_elo, w_ehi)  # stepping and waiting buildings' runs
-    mr = (blk_dof, blk_el, dof_blk, gb_lo, gb_hi, in_s, was_s, scr)  # multi-rate: who steps
-    ws = (g_w0, g_w1, du_w, u_w1, v_w1, a_w1, L_w, zero_n)  # the waiting buildings' step
-    md = (md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam)  # the modal basis, for exact steps
-    waits = (exact, ex_co, ex_h, h_ex, md, (mq, mqv, mqa), L_lev[0], p, beta, gamma, (Av, Vv, R0))
-    wc = (Wc_level, Wc_ok_level, Wc_scratch, Wc_ok_scratch, wc_key, batch)  # Woodbury columns, per factor
-    semi = (sig_h, Sd_h, dofs, order, pos, span, Kd, xs)  # the semiseparable inverse of the scratch factor
-    nwt = (Gm, dl, rl, Fm, resv, kt, Sm, ym, st_c, st_t)  # the contact Newton's work
-    fac = (L_lev, have_lev, L_h)  # K_hat's factors: per dt/2^k level, and a scratch one
-    gf = (F, F1, F_old, h_old)  # the closed gaps' forces: at t, trial, and the last accepted substep's
-    mdb = (md_start, md_blocks_t, md_block_off, md_phi_t, md_w2, md_c, md_gam, md_khinv)  # ... free flight's
-    blocks = (s_in, s_out, mq, mqv, mqa, Qb, QVb, QAb, DQb, Pb, Ub, Vb, f_start, Eb)  # its block work arrays
-
-    if not _factor(dt, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_lev[0]):
-        return NEWTON_FAILED, 0, 0.0
-    have_lev[0] = True
-    stats[S_FACTORIZATIONS] += 1
-    h_cached = -1.0
-
-    # -- initial state: gaps already closing at t = 0 (touching bodies) start an impact; output row 0
-    t = 0.0
-    status, n_imp, m_act, n_comp, e_in, es0 = _start(dt, ag, row, gaps, n_sub, st, F, cs, cat, outs, g_t,
-                                                     (d0, r0), (act_list, comp_off))
-    if status != OK:
-        return status, n_imp, t
-    w_int = 0.0  # work of storey + damping forces; damping = w_int - (strain - strain0)
-    e_cont = 0.0
-    pending = -1  # output row still waiting for its strain energy
-
-    hmin = 1e-9 * dt  # events closer than this to the step start switch in place
-    step = 0
-    while step < nsteps:
-        if use_modal and m_act == 0 and step >= block_from:
-            # ---- every gap open: march a block of steps in modal coordinates ----
-            if not modal_current:
-                _block_matvec(md_start, md_phi_tm, u, mq, False)
-                _block_matvec(md_start, md_phi_tm, v, mqv, False)
-                _block_matvec(md_start, md_phi_tm, a, mqa, False)
-                modal_current = True
-            if pending >= 0:  # the last physical row still lacks its strain energy
-                es = 0.0
-                for j in range(n):
-                    es += 0.5 * md_w2[j] * mq[j] * mq[j]
-                out_e[pending, E_STRAIN] = es
-                out_e[pending, E_DAMPING] -= es - es0
-                pending = -1
-            n_acc, event, th_hint, g_hint, e_in, w_int = _free_flight(
-                step, nsteps, min(blk, nblk), store, (dt, beta, gamma), motion, mdb, blocks, row, gaps, (exact, ex_co),
-                (d0, r0), st, outs, (e_in, w_int, e_cont, es0))
-            stats[S_STEPS] += n_acc
-            stats[S_FREE_FLIGHT] += n_acc
-            stats[S_DOF_STEPS] += n_acc * n
-            stats[S_BLOCKS] += 1
-            step += n_acc
-            t = step * dt
-            _ground_all(ag, t, dt, g_t)
-            if moving:
-                _gap_ground_all(gap_ground, t, dt, gk, GU0)
-            if n_acc > 0:
-                for i in range(n):  # storey + damping forces from equilibrium (no contact)
-                    fint[i] = -mass[i] * (g_t[dof_motion[i]] + a[i])
-            if event:
-                block_from = step + 1  # the physical path takes the event's step,
-                hint_step = step  # starting on the event the block located
-                modal_current = False
-                blk = 16
-            else:
-                blk = min(2 * blk, nblk)
-            continue
-        modal_current = False
-        t_end = (step + 1) * dt
-        # ---- who steps: with multi-rate, the buildings of the closed gaps' groups; the others wait, taking
-        # the whole analysis step at once (``_multirate``)
-        n_wrun = _who_steps(m_act, act_list, multirate, wait_share, mr, runs)
-        waiting = False
-        if n_wrun > 0:
-            t_w0 = t
-            n_wrun = _waiting_step((step, t, dt), motion, g_t, n_wrun, mr, runs, ws, waits, row, gaps, st, (d0, r0),
-                                   stats)
-            waiting = n_wrun > 0
-        if waiting:
-            stats[S_WAITING] += 1
-            if pending >= 0:  # the last output row's strain energy, over the whole row
-                es = _strain_energy(el_i, el_j, el_k, u)
-                out_e[pending, E_STRAIN] = es
-                out_e[pending, E_DAMPING] -= es - es0
-                pending = -1
-        changed = False
-        for b in range(nbk):
-            changed = changed or in_s[b] != was_s[b]
-        if changed:
-            n_run, n_ss, n_scr, n_s_dof = _stepping(mr, runs)
-            h_cached = -1.0  # the scratch factor covers the former stepping rows only
-        while t_end - t > 1e-9 * dt:
-            h, lev = _contact_step(t, t_end, dt, m_act, act_list, gap_law, hsub, age, h_lev, n_lev, 0)
-            target = -1
-            if aim_gap >= 0:
-                ga = aim_gap
-                aim_gap = -1
-                if d0[ga] * r0[ga] < 0.0:  # still approaching the crossing
-                    h_aim = -d0[ga] / r0[ga]
-                    if hmin <= h_aim < h:
-                        h = h_aim
-                        target = ga
-            if step == hint_step and t == step * dt and th_hint * h >= hmin:
-                h = th_hint * h  # the block's Hermite root: the physical path's first guess too
-                target = g_hint
-            landed = False
-            toggle_now = -1
-            n_tog = 0
-            n_land = 0
-            located = False
-            join_gap = -1
-            # ======== ATTEMPT LOOP: predictor, contact Newton, event screen; redone up to an event ========
-            for attempt in range(200):
-                # ---- factor K_hat(h): cached per dt/2^k level, scratch otherwise (none for an
-                # exact step with every gap open: the modal step needs no solve)
-                modal_step = exact and m_act == 0
-                lv, h = _grid_level(h, lev, h_lev, dt)
-                ok, Lf, h_cached = _factor_for(lv, h, modal_step, h_cached, fac, row, p, (beta, gamma), runs, n_run,
-                                               wc_key, stats)
-                if not ok:
-                    return NEWTON_FAILED, n_imp, t
-                cm = 1.0 / (beta * h * h)
-                cc = gamma / (beta * h)
-                if h == dt and t == step * dt:  # a whole analysis step: on the record's grid
-                    for r in range(nm):
-                        g_1[r] = ag[r, step + 1]
-                else:
-                    _ground_all(ag, t + h, dt, g_1)
-                if moving:
-                    _gap_ground_all(gap_ground, t + h, dt, gk, GU1)
-                # ---- PREDICTOR: the step with every contact force frozen at zero, on the stepping
-                # buildings' runs (exact when no gap is closed)
-                es = 0.0
-                if modal_step:
-                    # every gap open (around an event): the exact modal step, as in free flight
-                    es = _exact_trial(h, g_t, g_1, beta, gamma, md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam,
-                                      ex_h, h_ex, u, v, mq, mqv, mqa, Du, Vv, Av)
-                    modal_current = False
-                else:
-                    es = _newmark_predictor(n_run, r_lo, r_hi, r_elo, r_ehi, h, Lf, p, beta, gamma, mass, dof_a0,
-                                            dof_motion, el_i, el_j, el_k, el_a1, g_1, u, v, a, Av, Vv, fs, fd, R0, Du)
-                if pending >= 0:  # (the whole row steps here: a waiting step settled it already)
-                    out_e[pending, E_STRAIN] = 0.5 * es
-                    out_e[pending, E_DAMPING] -= 0.5 * es - es0
-                    pending = -1
-                stats[S_ITERATIONS] += 1
-                stats[S_DOF_STEPS] += n_s_dof
-                # ---- CONTACT NEWTON on the forces of the closed gaps (condensed through K_hat^-1)
-                converged = m_act == 0
-                if m_act > 0:
-                    converged, it = _contact_newton((lv, h, cc, waiting), (Lf, L_h, p, n_run, runs),
-                                                    (m_act, act_list, n_comp, comp_off), wc, semi, gaps,
-                                                    (u, Du, Vv, R0, gk), gf, age, nwt,
-                                                    (rtol, max_iter), stats)
-                    stats[S_ITERATIONS] += it
-                    if it > stats[S_MAX_ITER]:
-                        stats[S_MAX_ITER] = it
-                if not converged:
-                    stats[S_REJECTED] += 1
-                    h *= 0.25
-                    target = -1
-                    if h < hmin:
-                        return NEWTON_FAILED, n_imp, t
-                    continue
-                # ---- EVENT SCREEN: does a gap open or close inside the step? (end states from Du)
-                landed = False
-                if target >= 0:
-                    ii = gap_i[target]
-                    jj = gap_j[target]
-                    dtg, rtg = _gap_trial(u, Du, Vv, cc, ii, jj, gap_size[target], gk[GU1, target], gk[GV1, target])
-                    landed = abs(dtg) <= LAND_TOL * max(abs(rtg), abs(r0[target])) * h + 1e-15
-                if waiting:  # gaps with a waiting side: it moves along its own step's trajectory
-                    _screen_waiting((t + h - t_w0) / dt, dt, cc, mr, n_ss, n_scr, gaps, (u, v, Du, Vv), ws, gk,
-                                    (d_end, r_end))
-                # screen every gap (or, while some building waits, those in the list scr: the
-                # gaps with a stepping side; scr[n_ss:] have a waiting side, computed above)
-                theta, g_ev, ev_waits, n_land = _screen_step(
-                    waiting, scr, n_ss, n_scr, gap_i, gap_j, gap_size, gap_law, active, u, Du, Vv, cc, h, gk,
-                    d0, r0, d_end, r_end, landed, target, land_too)
-                if ev_waits:
-                    # a waiting building may touch a stepping one in this substep: it
-                    # catches up to the substep's start and steps from there (below)
-                    stats[S_REJECTED] += 1
-                    join_gap = g_ev
-                    break
-                if g_ev < 0:
-                    located = True
-                    if target >= 0 and not landed:
-                        # the redo stopped just short of its event: aim the next step
-                        # at it (linear in delta) instead of finding it again
-                        aim_gap = target
-                    break
-                stats[S_REJECTED] += 1
-                if theta * h < hmin:
-                    # every gap whose event is at the current time switches now, together
-                    # (identical floors touch at once: one attempt, not one per gap)
-                    # (a second pass over the gaps' end states: rare, so not kept in the first)
-                    n_tog = _at_once(h, hmin, scr, n_ss, n_scr, gaps, cs, (d0, r0, d_end, r_end), landed, target,
-                                     toggles)
-                    toggle_now = g_ev
-                    located = True
-                    break
-                h = theta * h
-                target = g_ev
-            if join_gap >= 0:
-                # ---- the waiting buildings of gap join_gap catch up to t and step from here
-                hw = t - t_w0
-                ok, e_in, w_int = _join(join_gap, hw, g_t, mr, ws, waits, row, st, umax, (e_in, w_int), stats)
-                if not ok:
-                    return NEWTON_FAILED, n_imp, t
-                n_run, n_ss, n_scr, n_s_dof = _stepping(mr, runs)
-                n_wrun = _runs(in_s, False, blk_dof, blk_el, w_lo, w_hi, w_elo, w_ehi)
-                waiting = n_wrun > 0
-                h_cached = -1.0  # the scratch factor lacks the joined rows
-                aim_gap = -1
-                s0 = hw / dt
-                for qq in range(n_scr):  # gap states at t: the joined buildings are there now
-                    g = scr[qq]
-                    d0[g], r0[g] = _gap_state(g, s0, dt, in_s, dof_blk, gap_i, gap_j, gap_size, u, v, u_w1, v_w1,
-                                              zero_n, v, 0.0, gk[GU0, g], gk[GV0, g])
-                continue
-            if not located:
-                return NEWTON_FAILED, n_imp, t
-            # (toggle_now >= 0: the events are at the current time, switched below without moving)
-            if toggle_now < 0:
-                # ======== ACCEPT / COMMIT: energy, state, peaks, contact forces ========
-                stats[S_STEPS] += 1
-                e_in, w_int, e_cont = _accept(h, (cm, cc), (g_t, g_1), (Du, Av, Vv), st, row, gaps, gf, cs, cat,
-                                              outs, (m_act, act_list), (waiting, n_run, runs), (e_in, w_int, e_cont))
-                if waiting:
-                    for qq in range(n_scr):  # (the other gaps link waiting buildings only)
-                        g = scr[qq]
-                        d0[g] = d_end[g]
-                        r0[g] = r_end[g]
-                else:  # every gap was screened: swap
-                    d0, d_end = d_end, d0
-                    r0, r_end = r_end, r0
-                t = t + h
-                if abs(t - t_end) <= 1e-9 * dt:
-                    t = t_end  # no round-off drift of the clock across analysis steps
-                for r in range(nm):
-                    g_t[r] = g_1[r]
-                if moving:
-                    _gap_ground_accept(gk)
-                if landed:
-                    toggles[0] = target
-                    n_tog = 1
-                    for k_t in range(n_land):  # gaps at their own crossing too (screen)
-                        toggles[n_tog] = land_too[k_t]
-                        n_tog += 1
-            if n_tog > 0:
-                # ---- SWITCH: an impact's onset (the law's onset hook) or end at each gap in toggles
-                status, n_imp, m_act = _switch(toggles, n_tog, t, n_sub, st, gaps, gk, F, fmax, cs, cat, act_list,
-                                               (n_imp, m_act))
-                if status != OK:
-                    return status, n_imp, t
-                n_comp = _group_contacts(m_act, act_list, gap_lo, gap_hi, comp_off)
-                _equilibrium(row, st, g_t, gaps, F, runs, n_run)
-        if waiting:
-            # ---- the waiting buildings' step is accepted with the stepping ones' last
-            e_in, w_int = _commit_waiting(n_wrun, mr, runs, ws, row, gaps, gk, st, umax, (d0, r0), (e_in, w_int))
-            waiting = False
-        # ---- output at the analysis step ---------------------------------------
-        step += 1
-        if not store:
-            continue  # peaks only (the no-pounding twin): no histories to write
-        _output_row(step, st, g_t, row, F, outs, (e_in, w_int, e_cont))
-        pending = step
-    if pending >= 0:
-        _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd)
-        es = 0.0
-        for i in range(n):
-            es += 0.5 * fs[i] * u[i]
-        out_e[pending, E_STRAIN] = es
-        out_e[pending, E_DAMPING] -= es - es0
-    keep_alive(owners)
-    return OK, n_imp, t
+    mw = (md_khinv, np.empty((8, nq if exact else 0)), np.full(1, -1.0), h_lev)
+    return fac, st, incr, wc, semi, nwt, lists, cs, gf, ev, mr, runs, ws, blocks, mw
 
 
 @njit(cache=True)
-def _start(dt, ag, row, gaps, n_sub, st, F, cs, cat, outs, g_t, dr, lists):
+def _flight_block(step, pending, fb, energy, model, work, outs, stats):
+    """Every gap open: march a block of analysis steps from ``step`` in modal coordinates (``_free_flight``),
+    up to the first step in which a gap may close, which the physical path then takes from the block's own
+    root estimate.
+
+    fb = (the first step a block may start, block length, the step a block saw an event in, its fraction and
+    gap, whether the modal state is current); pending: the output row that still lacks its strain energy.
+    Blocks start at 16 steps after an impact and double up to nblk.  Returns (step, t, pending, fb, energy).
+    """
+    block_from, blk, hint_step, th_hint, g_hint, modal_current = fb
+    row, gaps, motion, settings, modal, es0 = model[0], model[2], model[3], model[4], model[5], model[8]
+    dt, nsteps, beta, gamma, store = settings[0], settings[1], settings[2], settings[3], settings[7]
+    st, ev, blocks, mw = work[1], work[9], work[13], work[14]
+    mq, mqv, mqa = blocks[2], blocks[3], blocks[4]
+    md_start, md_phi_tm, md_w2 = modal[1], modal[5], modal[6]
+    mass, dof_motion = row[0], row[2]
+    u, v, a, fint = st[0], st[1], st[2], st[3]
+    g_t = ev[5]
+    out_e = outs[4]
+    n = mass.size
+    if not modal_current:
+        _block_matvec(md_start, md_phi_tm, u, mq, False)
+        _block_matvec(md_start, md_phi_tm, v, mqv, False)
+        _block_matvec(md_start, md_phi_tm, a, mqa, False)
+    if pending >= 0:  # the last physical row still lacks its strain energy
+        es = 0.0
+        for j in range(n):
+            es += 0.5 * md_w2[j] * mq[j] * mq[j]
+        out_e[pending, E_STRAIN] = es
+        out_e[pending, E_DAMPING] -= es - es0
+    mdb = (md_start, modal[2], modal[3], modal[4], md_w2, modal[7], modal[8], mw[0])
+    n_acc, event, th_hint, g_hint, e_in, w_int = _free_flight(
+        (step, nsteps, min(blk, modal[9]), store), (dt, beta, gamma), motion, mdb, blocks, row, gaps,
+        (modal[10], modal[11]), (ev[0], ev[1]), st, outs, energy + (es0,))
+    stats[S_STEPS] += n_acc
+    stats[S_FREE_FLIGHT] += n_acc
+    stats[S_DOF_STEPS] += n_acc * n
+    stats[S_BLOCKS] += 1
+    step += n_acc
+    t = step * dt
+    _ground_all(motion[0], t, dt, g_t)
+    if motion[1]:
+        _gap_ground_all(motion[2], t, dt, ev[4], GU0)
+    if n_acc > 0:
+        for i in range(n):  # storey + damping forces from equilibrium (no contact)
+            fint[i] = -mass[i] * (g_t[dof_motion[i]] + a[i])
+    energy = (e_in, w_int, energy[2])
+    if event:  # the physical path takes the event's step, starting on the event the block located
+        return step, t, -1, (step + 1, 16, step, th_hint, g_hint, False), energy
+    return step, t, -1, (block_from, min(2 * blk, modal[9]), hint_step, th_hint, g_hint, True), energy
+
+
+@njit(cache=True, inline="always")
+def _physical_step(clk, cnt, ps, fb, energy, model, work, outs, cat, stats):
+    """The analysis step from t on the physical path: who steps (with multi-rate stepping, the buildings of
+    the closed gaps' groups; the others wait, taking the whole analysis step at once: ``_multirate``), its
+    substeps to the step's end (``_substep``), then the waiting buildings' step committed.
+
+    clk = (analysis step, t, output row pending); cnt = (impacts, gaps closed, their groups); ps = (the
+    scratch factor's step, a gap aimed at, stepping runs, gaps screened with stepping sides only, gaps
+    screened, stepping DOFs); fb: the free-flight blocks' state (``_flight_block``: its event hint).
+    Returns (status, t, pending, cnt, ps, energy).
+    """
+    step, t, pending = clk
+    row, gaps, motion, multi, es0 = model[0], model[2], model[3], model[6], model[8]
+    dt = model[4][0]
+    st, lists, ev, mr, runs, ws = work[1], work[6], work[9], work[10], work[11], work[12]
+    t_end = (step + 1) * dt
+    n_wrun = _who_steps(cnt[1], lists[0], multi[0], multi[1], mr, runs)
+    waiting = False
+    if n_wrun > 0:
+        n_wrun = _waiting_step((step, t, dt), motion, n_wrun, mr, runs, ws, _waits(model, work), row, gaps, st,
+                               (ev[0], ev[1], ev[5]), stats)
+        waiting = n_wrun > 0
+    if waiting:
+        stats[S_WAITING] += 1
+        if pending >= 0:  # the last output row's strain energy, over the whole row
+            pending = _settle(pending, _strain_energy(row[3], row[4], row[5], st[0]), es0, outs[4])
+    changed = False
+    for b in range(mr[5].size):
+        changed = changed or mr[5][b] != mr[6][b]
+    if changed:  # (the scratch factor covers the former stepping rows only)
+        ps = (-1.0, ps[1]) + _stepping(mr, runs)
+    wt = (waiting, n_wrun, t)  # some building waits, their runs, the waiting step's start
+    clk = (step, t, pending)
+    while t_end - clk[1] > 1e-9 * dt:
+        status, clk, cnt, ps, wt, energy = _substep(clk, cnt, ps, wt, fb, energy, model, work, outs, cat, stats)
+        if status != OK:
+            return status, clk[1], clk[2], cnt, ps, energy
+    if wt[0]:
+        # ---- the waiting buildings' step is accepted with the stepping ones' last
+        e_in, w_int = _commit_waiting(wt[1], mr, runs, ws, row, gaps, ev[4], st, outs[5], (ev[0], ev[1]),
+                                      energy[:2])
+        energy = (e_in, w_int, energy[2])
+    return OK, clk[1], clk[2], cnt, ps, energy
+
+
+@njit(cache=True, inline="always")
+def _substep(clk, cnt, ps, wt, fb, energy, model, work, outs, cat, stats):
+    """One step inside the analysis step: its size (the rest of the analysis step or the contact substep
+    grid, aimed at an event a step stopped just short of or a free-flight block located), the attempts up
+    to the first event (``_attempts``), then a join (``_join_now``) or ACCEPT / COMMIT and a SWITCH at each
+    event.  Returns (status, clk, cnt, ps, wt, energy)."""
+    step, t, pending = clk
+    n_imp, m_act, n_comp = cnt
+    h_cached, aim_gap = ps[0], ps[1]
+    gaps = model[2]
+    dt, n_sub = model[4][0], model[4][4]
+    st, lists, cs, gf, ev, runs, mw = work[1], work[6], work[7], work[8], work[9], work[11], work[14]
+    d0, r0 = ev[0], ev[1]
+    hmin = 1e-9 * dt  # events closer than this to the step start switch in place
+    t_end = (step + 1) * dt
+    h, lev = _contact_step(t, t_end, dt, m_act, lists[0], gaps[5], cs[2], cs[3], mw[3], N_LEV, 0)
+    target = -1
+    if aim_gap >= 0:
+        ga = aim_gap
+        aim_gap = -1
+        if d0[ga] * r0[ga] < 0.0:  # still approaching the crossing
+            h_aim = -d0[ga] / r0[ga]
+            if hmin <= h_aim < h:
+                h = h_aim
+                target = ga
+    if step == fb[2] and t == step * dt and fb[3] * h >= hmin:
+        h = fb[3] * h  # the block's Hermite root: the physical path's first guess too
+        target = fb[4]
+    status, h, target, out, h_cached, pending = _attempts((h, lev, target), (step, t, pending), cnt, ps, wt, model,
+                                                          work, outs, stats)
+    located, landed, n_tog, n_land, toggle_now, join_gap, aim = out
+    ps = (h_cached, aim) + ps[2:]
+    if status != OK:
+        return status, (step, t, pending), cnt, ps, wt, energy
+    if join_gap >= 0:
+        # ---- the waiting buildings of gap join_gap catch up to t and step from here
+        ok, ps, wt, energy = _join_now(join_gap, t, wt, energy, model, work, outs, stats)
+        return OK if ok else NEWTON_FAILED, (step, t, pending), cnt, ps, wt, energy
+    if not located:
+        return NEWTON_FAILED, (step, t, pending), cnt, ps, wt, energy
+    # (toggle_now >= 0: the events are at the current time, switched below without moving)
+    if toggle_now < 0:
+        # ---- ACCEPT / COMMIT: energy, state, peaks, contact forces
+        stats[S_STEPS] += 1
+        cm = 1.0 / (model[4][2] * h * h)
+        cc = model[4][3] / (model[4][2] * h)
+        energy = _accept(h, (cm, cc), model, work, outs, cat, (wt[0], ps[2], m_act), energy)
+        t = _advance(t, h, (t_end, dt), wt[0], ps[4], work, model[3][1])
+        if landed:
+            n_tog = _landed(target, n_land, lists[3], lists[2])
+    if n_tog > 0:
+        # ---- SWITCH: an impact's onset (the law's onset hook) or end at each gap in toggles
+        status, n_imp, m_act = _switch((lists[2], n_tog), t, n_sub, st, gaps, ev[4], gf[0], outs[6], cs, cat,
+                                       lists[0], (n_imp, m_act))
+        if status != OK:
+            return status, (step, t, pending), (n_imp, m_act, n_comp), ps, wt, energy
+        n_comp = _group_contacts(m_act, lists[0], gaps[2], gaps[3], lists[1])
+        _equilibrium(model[0], st, ev[5], gaps, gf[0], runs, ps[2])
+    return OK, (step, t, pending), (n_imp, m_act, n_comp), ps, wt, energy
+
+
+@njit(cache=True, inline="always")
+def _attempts(first, clk, cnt, ps, wt, model, work, outs, stats):
+    """The ATTEMPT LOOP of one step: the trial (``_trial_step``: factor, predictor, contact Newton) and the event
+    screen, redone up to the first event (a shorter step on Newton's failure, up to the event otherwise).
+
+    first = (h [s], its grid level, the gap whose event it aims at or -1).  Returns (status, h, target,
+    (located, landed, n_tog, n_land, toggle_now, join_gap, aim_gap), the scratch factor's step, pending):
+    toggle_now >= 0 where the events are at the current time (switched without moving), join_gap >= 0
+    where a waiting building may touch a stepping one in the step (it catches up and steps), aim_gap the
+    event a located step stopped just short of (the next step is aimed at it, linear in delta, instead of
+    finding it again).
+    """
+    h, lev, target = first
+    step, t, pending = clk
+    h_cached, n_ss, n_scr = ps[0], ps[3], ps[4]
+    waiting, t_w0 = wt[0], wt[2]
+    gaps = model[2]
+    dt = model[4][0]
+    st, incr, cs, ev, mr, ws = work[1], work[2], work[7], work[9], work[10], work[12]
+    toggles, land_too = work[6][2], work[6][3]
+    u, v = st[0], st[1]
+    Du, Vv = incr[0], incr[3]
+    d0, r0, d_end, r_end, gk = ev[0], ev[1], ev[2], ev[3], ev[4]
+    hmin = 1e-9 * dt
+    for attempt in range(200):
+        ok, converged, h, cc, h_cached, pending = _trial_step(h, lev, (step, t, pending), cnt, ps[:1] + ps[2:],
+                                                         wt[0], model, work, outs, stats)
+        if not ok:
+            return NEWTON_FAILED, h, target, (False, False, 0, 0, -1, -1, -1), h_cached, pending
+        if not converged:
+            stats[S_REJECTED] += 1
+            h *= 0.25
+            target = -1
+            if h < hmin:
+                return NEWTON_FAILED, h, target, (False, False, 0, 0, -1, -1, -1), h_cached, pending
+            continue
+        # ---- EVENT SCREEN: does a gap open or close inside the step? (end states from Du)
+        landed = False
+        if target >= 0:
+            dtg, rtg = _gap_trial(u, Du, Vv, cc, gaps[0][target], gaps[1][target], gaps[4][target], gk[GU1, target],
+                                  gk[GV1, target])
+            landed = abs(dtg) <= LAND_TOL * max(abs(rtg), abs(r0[target])) * h + 1e-15
+        if waiting:  # gaps with a waiting side: it moves along its own step's trajectory
+            _screen_waiting((t + h - t_w0) / dt, dt, cc, mr, n_ss, n_scr, gaps, (u, v, Du, Vv), ws, gk,
+                            (d_end, r_end))
+        # screen every gap (or, while some building waits, those in the list scr: the gaps with a stepping
+        # side; scr[n_ss:] have a waiting side, computed above)
+        theta, g_ev, ev_waits, n_land = _screen_step(waiting, (mr[7], n_ss, n_scr), gaps, cs[0], (u, Du, Vv, cc), h,
+                                                     gk, (d0, r0, d_end, r_end), (landed, target), land_too)
+        if ev_waits:  # a waiting building may touch a stepping one in this substep: it joins (``_join_now``)
+            stats[S_REJECTED] += 1
+            return OK, h, target, (False, landed, 0, n_land, -1, g_ev, -1), h_cached, pending
+        if g_ev < 0:
+            aim = target if target >= 0 and not landed else -1
+            return OK, h, target, (True, landed, 0, n_land, -1, -1, aim), h_cached, pending
+        stats[S_REJECTED] += 1
+        if theta * h < hmin:
+            # every gap whose event is at the current time switches now, together (identical floors touch
+            # at once: one attempt, not one per gap)
+            n_tog = _at_once(h, hmin, (mr[7], n_ss, n_scr), gaps, cs, (d0, r0, d_end, r_end), landed, target,
+                             toggles)
+            return OK, h, target, (True, landed, n_tog, n_land, g_ev, -1, -1), h_cached, pending
+        h = theta * h
+        target = g_ev
+    return NEWTON_FAILED, h, target, (False, False, 0, 0, -1, -1, -1), h_cached, pending
+
+
+@njit(cache=True, inline="always")
+def _trial_step(h, lev, clk, cnt, fs, waiting, model, work, outs, stats):
+    """One attempt's trial step of h [s]: K_hat(h)'s factor (``_factor_for``), the ground at its end, the
+    PREDICTOR with every contact force frozen at zero on the stepping buildings' runs (exact when no gap
+    is closed), and the CONTACT NEWTON on the closed gaps' forces (``_contact_newton``).
+
+    clk = (analysis step, t, pending); fs = (the scratch factor's step, stepping runs, gaps screened ...,
+    stepping DOFs).  Returns (factored, converged, h on the grid, gamma/(beta h), the scratch factor's step,
+    pending).
+    """
+    step, t, pending = clk
+    m_act, n_comp = cnt[1], cnt[2]
+    h_cached, n_run, n_s_dof = fs[0], fs[1], fs[4]
+    row, p, gaps, motion, settings, modal, md, es0 = (model[0], model[1], model[2], model[3], model[4], model[5],
+                                                      model[7], model[8])
+    dt, beta, gamma, rtol, max_iter = settings[0], settings[2], settings[3], settings[5], settings[6]
+    fac, st, incr, wc, semi, nwt, lists, cs, gf, ev, runs, blocks, mw = (work[0], work[1], work[2], work[3], work[4],
+                                                                        work[5], work[6], work[7], work[8], work[9],
+                                                                        work[11], work[13], work[14])
+    Du, R0, Av, Vv = incr
+    ag, g_t, g_1 = motion[0], ev[5], ev[6]
+    out_e = outs[4]
+    modal_step = modal[10] and m_act == 0  # every gap open (around an event): the exact modal step
+    lv, h = _grid_level(h, lev, mw[3], dt)
+    ok, Lf, h_cached = _factor_for(lv, h, modal_step, h_cached, fac, row, p, (beta, gamma), runs, n_run, wc[4],
+                                   stats)
+    if not ok:
+        return False, False, h, 0.0, h_cached, pending
+    cc = gamma / (beta * h)
+    if h == dt and t == step * dt:  # a whole analysis step: on the record's grid
+        for r in range(ag.shape[0]):
+            g_1[r] = ag[r, step + 1]
+    else:
+        _ground_all(ag, t + h, dt, g_1)
+    if motion[1]:
+        _gap_ground_all(motion[2], t + h, dt, ev[4], GU1)
+    if modal_step:
+        es = _exact_trial(h, (g_t, g_1), (beta, gamma), md, (mw[1], mw[2]), st, blocks[2:5], incr)
+    else:
+        es = _newmark_predictor((n_run, runs), h, (Lf, p), (beta, gamma), row, g_1, st, incr)
+    if pending >= 0:  # (the whole row steps here: a waiting step settled it already)
+        pending = _settle(pending, 0.5 * es, es0, out_e)
+    stats[S_ITERATIONS] += 1
+    stats[S_DOF_STEPS] += n_s_dof
+    if m_act == 0:
+        return True, True, h, cc, h_cached, pending
+    converged, it = _contact_newton((lv, h, cc, waiting), (Lf, fac[2], p, n_run, runs), (m_act, lists[0], n_comp,
+                                    lists[1]), wc, semi, gaps, (st[0], Du, Vv, R0, ev[4]), gf, cs[3], nwt,
+                                    (rtol, max_iter), stats)
+    stats[S_ITERATIONS] += it
+    if it > stats[S_MAX_ITER]:
+        stats[S_MAX_ITER] = it
+    return True, converged, h, cc, h_cached, pending
+
+
+@njit(cache=True)
+def _join_now(join_gap, t, wt, energy, model, work, outs, stats):
+    """The waiting buildings of gap join_gap catch up from the waiting step's start to t (``_multirate._join``)
+    and step with the others from here: the runs and the screen list follow, and the screened gaps' states
+    at t.  wt = (some building waits, their runs, the waiting step's start).  Returns (ok, ps, wt, energy)
+    with ps's scratch factor stale (it lacks the joined rows) and no gap aimed at."""
+    row, gaps = model[0], model[2]
+    dt = model[4][0]
+    st, ev, mr, runs, ws = work[1], work[9], work[10], work[11], work[12]
+    u, v = st[0], st[1]
+    in_s, dof_blk, scr = mr[5], mr[2], mr[7]
+    hw = t - wt[2]
+    ok, e_in, w_int = _join(join_gap, hw, ev[5], mr, ws, _waits(model, work), row, st, outs[5], energy[:2], stats)
+    energy = (e_in, w_int, energy[2])
+    ps = (-1.0, -1) + _stepping(mr, runs)
+    if not ok:
+        return False, ps, wt, energy
+    n_wrun = _runs(in_s, False, mr[0], mr[1], runs[4], runs[5], runs[6], runs[7])
+    s0 = hw / dt
+    for qq in range(ps[4]):  # gap states at t: the joined buildings are there now
+        g = scr[qq]
+        ev[0][g], ev[1][g] = _gap_state(g, (s0, dt), (in_s, dof_blk), gaps, (u, v, ws[3], ws[4]), (ws[7], v, 0.0),
+                                        (ev[4][GU0, g], ev[4][GV0, g]))
+    return True, ps, (n_wrun > 0, n_wrun, wt[2]), energy
+
+
+@njit(cache=True, inline="always")
+def _advance(t, h, clock, waiting, n_scr, work, moving):
+    """After an accepted step of h [s] from t: each screened gap's penetration and rate at the step's end
+    become its start's (while some building waits, the gaps screened, scr[:n_scr]: the others link waiting
+    buildings only), the ground terms move on, and the clock too (to t_end exactly where it lands within
+    round-off of it: no drift across analysis steps).  clock = (t_end, dt).  Returns the new t."""
+    t_end, dt = clock
+    ev, scr = work[9], work[10][7]
+    d0, r0, d_end, r_end, gk, g_t, g_1 = ev
+    if waiting:
+        for qq in range(n_scr):
+            g = scr[qq]
+            d0[g] = d_end[g]
+            r0[g] = r_end[g]
+    else:  # every gap was screened
+        for g in range(d0.size):
+            d0[g] = d_end[g]
+            r0[g] = r_end[g]
+    t = t + h
+    if abs(t - t_end) <= 1e-9 * dt:
+        t = t_end
+    for r in range(g_t.size):
+        g_t[r] = g_1[r]
+    if moving:
+        _gap_ground_accept(gk)
+    return t
+
+
+@njit(cache=True, inline="always")
+def _landed(target, n_land, land_too, toggles):
+    """The gaps a step that landed on target's event switches: target and those at their own crossing
+    within the landing tolerance (``_screen_step``).  Fills toggles; returns their number."""
+    toggles[0] = target
+    n_tog = 1
+    for k in range(n_land):
+        toggles[n_tog] = land_too[k]
+        n_tog += 1
+    return n_tog
+
+
+@njit(cache=True, inline="always")
+def _settle(pending, es, es0, out_e):
+    """Output row ``pending`` gets its strain energy es [J] (and the damping's share of the storey + damping
+    work, which needed it; es0 the strain energy at t = 0).  Returns -1: no row pending."""
+    out_e[pending, E_STRAIN] = es
+    out_e[pending, E_DAMPING] -= es - es0
+    return -1
+
+
+@njit(cache=True)
+def _last_strain(pending, row, st, es0, out_e):
+    """The last output row's strain energy, from K u at the end of the run (``_settle``)."""
+    mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1 = row
+    u, v, fs, fd = st[0], st[1], st[4], st[5]
+    _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd)
+    es = 0.0
+    for i in range(u.size):
+        es += 0.5 * fs[i] * u[i]
+    _settle(pending, es, es0, out_e)
+
+
+@njit(cache=True, inline="always")
+def _waits(model, work):
+    """How a waiting building steps (``_multirate``): (exact, ex_co, ex_h, h_ex, md, (mq, mqv, mqa), the level-0
+    factor, p, beta, gamma, (Av, Vv, R0))."""
+    p, settings, modal, md = model[1], model[4], model[5], model[7]
+    fac, incr, blocks, mw = work[0], work[2], work[13], work[14]
+    return (modal[10], modal[11], mw[1], mw[2], md, (blocks[2], blocks[3], blocks[4]), fac[0][0], p, settings[2],
+            settings[3], (incr[2], incr[3], incr[1]))
+
+
+@njit(cache=True)
+def _start(dt, ag, row, gaps, n_sub, st, F, cs, cat, outs, ev, lists):
     """The state at t = 0: gaps already closing (touching bodies) start an impact, the accelerations follow
     from equilibrium, output row 0 is written and the closed gaps are listed and grouped.
 
-    Tuples as in ``integrate_kernel``; dr = (d0, r0) each gap's penetration [m] and rate [m/s], filled;
-    lists = (act_list, comp_off), filled.  Returns (status, n_impacts, gaps closed, contact groups, energy
-    present at t = 0 [J] (counted as input), strain energy at t = 0 [J])."""
+    Tuples as in ``integrate_kernel`` and ``_fast_work``: ev's (d0, r0) each gap's penetration [m] and rate
+    [m/s] and g_t filled; lists' (act_list, comp_off) filled.  Returns (status, n_impacts, gaps closed,
+    contact groups, energy present at t = 0 [J] (counted as input), strain energy at t = 0 [J])."""
     mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1 = row
     gap_i, gap_j, gap_lo, gap_hi, gap_size, gap_law, gap_par = gaps
     u, v, a, fint, fs, fd = st
     active, st_c, cur_imp, imp_fmax = cs[0], cs[1], cs[4], cat[4]
     out_u, out_v, out_a, out_f, out_e, umax, fmax = outs
-    d0, r0 = dr
-    act_list, comp_off = lists
+    d0, r0, g_t = ev[0], ev[1], ev[5]
+    act_list, comp_off = lists[0], lists[1]
     n = mass.size
     ng = gap_size.size
     n_imp = 0
@@ -714,10 +759,11 @@ def _start(dt, ag, row, gaps, n_sub, st, F, cs, cat, outs, g_t, dr, lists):
 
 
 @njit(cache=True)
-def _switch(toggles, n_tog, t, n_sub, st, gaps, gk, F, fmax, cs, cat, act_list, counts):
-    """Switch the gaps toggles[:n_tog] at time t: an impact's onset (the law's onset hook, its force F[g]
-    [N]) where the gap was open, its end where it was closed.  counts = (impacts so far, gaps closed);
-    returns (status, impacts, gaps closed)."""
+def _switch(tog, t, n_sub, st, gaps, gk, F, fmax, cs, cat, act_list, counts):
+    """Switch the gaps toggles[:n_tog] at time t (tog = (toggles, n_tog)): an impact's onset (the law's onset
+    hook, its force F[g] [N]) where the gap was open, its end where it was closed.  counts = (impacts so far,
+    gaps closed); returns (status, impacts, gaps closed)."""
+    toggles, n_tog = tog
     u, v = st[0], st[1]
     gap_i, gap_j, gap_size, gap_law, gap_par = gaps[0], gaps[1], gaps[4], gaps[5], gaps[6]
     active = cs[0]
@@ -750,8 +796,8 @@ def _equilibrium(row, st, g_t, gaps, F, runs, n_run):
     r_lo, r_hi, r_elo, r_ehi = runs[0], runs[1], runs[2], runs[3]
     gap_i, gap_j = gaps[0], gaps[1]
     for rr in range(n_run):
-        _internal_range(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd, r_lo[rr], r_hi[rr],
-                        r_elo[rr], r_ehi[rr])
+        _internal_range((mass, dof_a0, el_i, el_j, el_k, el_a1), u, v, fs, fd, (r_lo[rr], r_hi[rr], r_elo[rr],
+                                                                             r_ehi[rr]))
         for i in range(np.uint64(r_lo[rr]), np.uint64(r_hi[rr])):
             fint[i] = fs[i] + fd[i]
             a[i] = -g_t[dof_motion[i]] - fint[i] / mass[i]
@@ -769,14 +815,14 @@ def _commit_waiting(n_wrun, mr, runs, ws, row, gaps, gk, st, umax, dr, energy):
     e_in, w_int = energy
     in_s, dof_blk = mr[5], mr[2]
     w_lo, w_hi = runs[4], runs[5]
-    g_w0, g_w1, du_w, v_w1, a_w1 = ws[0], ws[1], ws[2], ws[4], ws[5]
+    g_w0, g_w1 = ws[0], ws[1]
     mass, dof_motion = row[0], row[2]
     gap_i, gap_j, gap_size = gaps[0], gaps[1], gaps[4]
-    u, v, a, fint = st[0], st[1], st[2], st[3]
+    u, v = st[0], st[1]
     d0, r0 = dr
     for w in range(n_wrun):
-        e_in, w_int = _waiting_commit(w_lo[w], w_hi[w], mass, dof_motion, g_w0, g_w1, du_w, v_w1, a_w1,
-                                      u, v, a, fint, umax, e_in, w_int)
+        e_in, w_int = _waiting_commit((w_lo[w], w_hi[w]), (mass, dof_motion), (g_w0, g_w1), ws[2:6], st, umax,
+                                      (e_in, w_int))
     for g in range(gap_size.size):
         if not (in_s[dof_blk[gap_i[g]]] and in_s[dof_blk[gap_j[g]]]):
             d0[g], r0[g] = _gap_deformation(u, v, gap_i[g], gap_j[g], gap_size[g], gk[GU0, g], gk[GV0, g])
@@ -844,8 +890,8 @@ def _contact_newton(kind, lin, act, wc, semi, gaps, trial, gf, age, nwt, opts, s
                 _inverse_diagonals_range(L_h, p, sig_h, Sd_h, r_lo[rr], r_hi[rr])
             wc_key[2] = 1.0
         for c in range(n_comp):  # G's diagonal blocks, one group at a time
-            _compliance_tridiagonal(comp_off[c], comp_off[c + 1], act_list, gap_i, gap_j, sig_h, Sd_h,
-                                    Gm, dofs, order, pos, span, Kd)
+            _compliance_tridiagonal((comp_off[c], comp_off[c + 1], act_list), gap_i, gap_j, (sig_h, Sd_h), Gm,
+                                    (dofs, order, pos, span, Kd))
     elif lv >= 0:
         if lv != wc_key[0]:
             for g in range(ngw):
@@ -934,8 +980,8 @@ def _factor_for(lv, h, modal_step, h_cached, fac, row, p, nb, runs, n_run, wc_ke
         return True, L_lev[lv], h_cached
     if not modal_step and abs(h - h_cached) > 1e-14 * h:
         for rr in range(n_run):  # the stepping buildings' rows
-            if not _factor_range(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_h,
-                                 r_lo[rr], r_hi[rr], r_elo[rr], r_ehi[rr]):
+            if not _factor_range(h, (beta, gamma), (mass, dof_a0, el_i, el_j, el_k, el_a1), p, L_h,
+                                 (r_lo[rr], r_hi[rr], r_elo[rr], r_ehi[rr])):
                 return False, L_h, h_cached
         stats[S_FACTORIZATIONS] += 1
         h_cached = h
@@ -986,11 +1032,12 @@ def _screen_waiting(s1, dt, cc, mr, n_ss, n_scr, gaps, trial, ws, gk, ends):
 
 
 @njit(cache=True, inline="always")
-def _at_once(h, hmin, scr, n_ss, n_scr, gaps, cs, states, landed, target, toggles):
+def _at_once(h, hmin, screened, gaps, cs, states, landed, target, toggles):
     """Every gap whose event is at the current time (within hmin of the step's start): they switch now,
     together (identical floors touch at once: one attempt, not one per gap); a gap with a waiting side is
-    found again in the next attempt, and joins then.  states = (d0, r0, d_end, r_end).  Fills toggles;
-    returns their number."""
+    found again in the next attempt, and joins then.  screened = (scr, n_ss, n_scr): the gaps screened
+    (``_screen_step``); states = (d0, r0, d_end, r_end).  Fills toggles; returns their number."""
+    scr, n_ss = screened[0], screened[1]
     gap_law = gaps[5]
     active = cs[0]
     d0, r0, d_end, r_end = states
@@ -1007,32 +1054,33 @@ def _at_once(h, hmin, scr, n_ss, n_scr, gaps, cs, states, landed, target, toggle
 
 
 @njit(cache=True, inline="always")
-def _accept(h, coef, grd, incr, st, row, gaps, gf, cs, cat, outs, act, rate, energy):
+def _accept(h, coef, model, work, outs, cat, rate, energy):
     """Accept the trial step of h [s] on the stepping buildings' rows: state, peaks, each closed gap's force
     and its peak between the last three samples of its impact, and the energies by the trapezoidal work.
-    coef = (1/(beta h^2), gamma/(beta h)); grd = (g_t, g_1) the ground accelerations at its ends; incr =
-    (Du, Av, Vv); act = (gaps closed, their list); rate = (some building waits, stepping runs, runs); energy =
+    coef = (1/(beta h^2), gamma/(beta h)); rate = (some building waits, stepping runs, gaps closed); energy =
     (e_in, w_int, e_cont) [J], returned updated."""
     cm, cc = coef
-    g_t, g_1 = grd
-    Du, Av, Vv = incr
-    u, v, a, fint = st[0], st[1], st[2], st[3]
+    row, gaps = model[0], model[2]
+    st, incr, lists, cs, gf, ev, runs = work[1], work[2], work[6], work[7], work[8], work[9], work[11]
+    g_t, g_1 = ev[5], ev[6]
+    Du = incr[0]
+    u, fint = st[0], st[3]
     mass, dof_motion = row[0], row[2]
     gap_i, gap_j = gaps[0], gaps[1]
     F, F1, F_old, h_old = gf
     age, cur_imp = cs[3], cs[4]
     imp_fmax = cat[4]
     umax, fmax = outs[5], outs[6]
-    m_act, act_list = act
-    waiting, n_run, runs = rate
+    waiting, n_run, m_act = rate
+    act_list = lists[0]
     e_in, w_int, e_cont = energy
     if waiting:
         for rr in range(n_run):
-            e_in, w_int = _accept_rows(runs[0][rr], runs[1][rr], cm, cc, mass, dof_motion, g_t, g_1, Du, Av, Vv,
-                                       fint, u, v, a, umax, e_in, w_int)
+            e_in, w_int = _accept_rows((runs[0][rr], runs[1][rr]), (cm, cc), (mass, dof_motion), (g_t, g_1),
+                                       incr, st, umax, (e_in, w_int))
     else:
-        e_in, w_int = _accept_rows(0, u.size, cm, cc, mass, dof_motion, g_t, g_1, Du, Av, Vv,
-                                   fint, u, v, a, umax, e_in, w_int)
+        e_in, w_int = _accept_rows((0, u.size), (cm, cc), (mass, dof_motion), (g_t, g_1), incr, st, umax,
+                                   (e_in, w_int))
     for q in range(m_act):
         gq = act_list[q]
         ii = gap_i[gq]

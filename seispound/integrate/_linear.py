@@ -30,11 +30,11 @@ from seispound._jit import njit
 @njit(cache=True)
 def _factor(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L):
     """Factor K_hat(h) of the whole row in place into L, shape (n, p + 2) (``_factor_range``)."""
-    return _factor_range(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L, 0, mass.size, 0, el_i.size)
+    return _factor_range(h, (beta, gamma), (mass, dof_a0, el_i, el_j, el_k, el_a1), p, L, (0, mass.size, 0, el_i.size))
 
 
 @njit(cache=True)
-def _factor_range(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L, lo, hi, elo, ehi):
+def _factor_range(h, nb, els, p, L, rows):
     """Factor K_hat(h) on DOFs lo..hi-1 in place into L; False if K_hat is not positive definite.
 
     [lo, hi) is a union of whole blocks (buildings) and elo..ehi-1 their
@@ -47,8 +47,12 @@ def _factor_range(h, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L, l
     the solves carry one fused multiply-add per row instead of two operations).
     Otherwise banded Cholesky K_hat = L L^T: L[i, d] = L(i, i - d), d <= p, and
     L[i, p + 1] = 1 / L(i, i).  The stored reciprocals turn the solves'
-    divisions into multiplications.
+    divisions into multiplications.  nb = (beta, gamma); els = (mass, dof_a0, el_i, el_j, el_k, el_a1);
+    rows = (lo, hi, elo, ehi).
     """
+    beta, gamma = nb
+    mass, dof_a0, el_i, el_j, el_k, el_a1 = els
+    lo, hi, elo, ehi = rows
     cm = 1.0 / (beta * h * h)
     cc = gamma / (beta * h)
     for i in range(np.uint64(lo), np.uint64(hi)):
@@ -194,16 +198,19 @@ INVERSE_FLOOR = 1e-200
 
 
 @njit(cache=True)
-def _compliance_tridiagonal(lo, hi, act_list, gap_i, gap_j, sig, Sd, Gm, dofs, order, pos, span, Kd):
+def _compliance_tridiagonal(grp, gap_i, gap_j, inv, Gm, work):
     """Gm[lo:hi, lo:hi] = B^T K_hat^-1 B for the gaps act_list[lo:hi] in contact, from the semiseparable inverse.
 
     The 2m gap DOFs are sorted; the product of sig between each sorted pair of
     neighbours costs one pass over the floors they span, and every entry of
     K_hat^-1 among them follows as a running product: O(n + m^2) per call,
     independent of how many gaps are closed (columns K_hat^-1 b_g would cost
-    O(n m)).  With m = hi - lo: dofs, order, pos, span (>= 2m,) and
-    Kd (>= 2m, >= 2m) are scratch; sig and Sd from ``_inverse_diagonals``.
+    O(n m)).  grp = (lo, hi, act_list); inv = (sig, Sd) from ``_inverse_diagonals``; with m = hi - lo,
+    work = (dofs, order, pos, span) (>= 2m,) and Kd (>= 2m, >= 2m): scratch.
     """
+    lo, hi, act_list = grp
+    sig, Sd = inv
+    dofs, order, pos, span, Kd = work
     m = hi - lo
     k = 2 * m
     for q in range(m):
@@ -367,12 +374,16 @@ def _dense_solve(m, A, b):
 @njit(cache=True)
 def _internal(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd):
     """Storey-spring forces fs = K u [N] and Rayleigh damping forces fd = C v [N]."""
-    _internal_range(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd, 0, mass.size, 0, el_i.size)
+    _internal_range((mass, dof_a0, el_i, el_j, el_k, el_a1), u, v, fs, fd, (0, mass.size, 0, el_i.size))
 
 
 @njit(cache=True, inline="always")
-def _internal_range(mass, dof_a0, el_i, el_j, el_k, el_a1, u, v, fs, fd, lo, hi, elo, ehi):
-    """fs = K u and fd = C v on DOFs lo..hi-1 (whole blocks), whose elements are elo..ehi-1."""
+def _internal_range(els, u, v, fs, fd, rows):
+    """fs = K u and fd = C v on DOFs lo..hi-1 (whole blocks), whose elements are elo..ehi-1.
+
+    els = (mass, dof_a0, el_i, el_j, el_k, el_a1); rows = (lo, hi, elo, ehi)."""
+    mass, dof_a0, el_i, el_j, el_k, el_a1 = els
+    lo, hi, elo, ehi = rows
     # unsigned subscripts (``_UNSIGNED``); el_j < 0 is the ground
     for i in range(np.uint64(lo), np.uint64(hi)):
         fs[i] = 0.0

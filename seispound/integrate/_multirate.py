@@ -46,19 +46,23 @@ def _waiting_state(i, s, dt, u, v, u_w1, v_w1):
 
 
 @njit(cache=True, inline="always")
-def _waiting_trial(lo, hi, elo, ehi, h, Lf, p, beta, gamma, mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1,
-                   g1, u, v, a, Av, Vv, fs, fd, R0, du_w, u_w1, v_w1, a_w1):
+def _waiting_trial(rows, h, fac, nb, row, g1, st, scratch, wend):
     """A linear Newmark step of size h [s] for the blocks on DOFs lo..hi-1, none of whose gaps is closed.
 
     Same recurrence as the kernel's step with every contact force zero; the
     increment and end state go to du_w, u_w1, v_w1, a_w1 (u, v, a stay: the
-    step is committed by ``_waiting_commit``).  Lf: K_hat(h) factored on these
-    rows; g1 (nm,): ground acceleration at the step end [m/s^2].
+    step is committed by ``_waiting_commit``).  rows = (lo, hi, elo, ehi); fac = (Lf, p): K_hat(h) factored
+    on these rows; nb = (beta, gamma); g1 (nm,): ground acceleration at the step end [m/s^2]; st the
+    kernel's state; scratch = (Av, Vv, R0); wend = (du_w, u_w1, v_w1, a_w1).
     """
+    beta, gamma = nb
+    lo, hi = rows[0], rows[1]
+    Av, Vv, R0 = scratch
+    du_w, u_w1, v_w1, a_w1 = wend
+    u = st[0]
     cm = 1.0 / (beta * h * h)
     cc = gamma / (beta * h)
-    _linear_trial(lo, hi, elo, ehi, h, Lf, p, beta, gamma, mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1,
-                  g1, u, v, a, Av, Vv, fs, fd, R0, du_w)
+    _linear_trial(rows, h, fac, nb, row, g1, st, (du_w, R0, Av, Vv))
     for i in range(np.uint64(lo), np.uint64(hi)):
         u_w1[i] = u[i] + du_w[i]
         v_w1[i] = Vv[i] + cc * du_w[i]
@@ -66,12 +70,19 @@ def _waiting_trial(lo, hi, elo, ehi, h, Lf, p, beta, gamma, mass, dof_a0, dof_mo
 
 
 @njit(cache=True, inline="always")
-def _waiting_commit(lo, hi, mass, dof_motion, g0, g1, du_w, v_w1, a_w1, u, v, a, fint, umax, e_in, w_int):
+def _waiting_commit(rows, mdm, grd, wend, st, umax, energy):
     """Accept a waiting step on DOFs lo..hi-1 (``_waiting_trial``): state, peaks, energy; return (e_in, w_int).
 
-    The energy terms are the kernel's trapezoidal work over the step, with g0
-    and g1 (nm,) the ground accelerations at its ends [m/s^2].
+    The energy terms are the kernel's trapezoidal work over the step, with grd = (g0, g1) (nm,) the ground
+    accelerations at its ends [m/s^2].  rows = (lo, hi); mdm = (mass, dof_motion); wend = (du_w, u_w1, v_w1,
+    a_w1); st = (u, v, a, fint, ...); energy = (e_in, w_int) [J].
     """
+    lo, hi = rows
+    mass, dof_motion = mdm
+    g0, g1 = grd
+    du_w, v_w1, a_w1 = wend[0], wend[2], wend[3]
+    u, v, a, fint = st[0], st[1], st[2], st[3]
+    e_in, w_int = energy
     for i in range(np.uint64(lo), np.uint64(hi)):
         du = du_w[i]
         ai = a_w1[i]
@@ -89,13 +100,21 @@ def _waiting_commit(lo, hi, mass, dof_motion, g0, g1, du_w, v_w1, a_w1, u, v, a,
 
 
 @njit(cache=True)
-def _gap_state(g, s, dt, in_s, dof_blk, gap_i, gap_j, gap_size, u, v, u_w1, v_w1, Du, Vv, cc, gu, gv):
+def _gap_state(g, clock, blk, gaps, states, trial, gnd):
     """Penetration [m] and its rate [m/s] of gap g when some building waits.
 
     A stepping side is at u + Du with velocity Vv + cc Du (the trial step's
     end; Du = 0, Vv = v, cc = 0 for the current state), a waiting side at
-    fraction s of its own step (``_waiting_state``); gu, gv: the gap's differential ground motion then.
+    fraction s of its own step (``_waiting_state``).  clock = (s, dt [s]); blk = (in_s, dof_blk); gaps as
+    the kernel's; states = (u, v, u_w1, v_w1); trial = (Du, Vv, cc); gnd = (gu, gv): the gap's differential
+    ground motion then.
     """
+    s, dt = clock
+    in_s, dof_blk = blk
+    gap_i, gap_j, gap_size = gaps[0], gaps[1], gaps[4]
+    u, v, u_w1, v_w1 = states
+    Du, Vv, cc = trial
+    gu, gv = gnd
     ii = gap_i[g]
     jj = gap_j[g]
     if in_s[dof_blk[ii]]:
@@ -198,11 +217,11 @@ def _who_steps(m_act, act_list, multirate, wait_share, mr, runs):
 
 
 @njit(cache=True)
-def _waiting_step(clock, gnd, g_t, n_wrun, mr, runs, ws, waits, row, gaps, st, dr, stats):
+def _waiting_step(clock, gnd, n_wrun, mr, runs, ws, waits, row, gaps, st, dr, stats):
     """The waiting buildings take the whole analysis step at once (exact modal steps, or Newmark with the
     level-0 factor); a gap between two of them that may close in that step makes its buildings step
-    instead.  clock = (step, t, dt); gnd = (ag, moving, gap_ground); dr = (d0, r0) the gaps' state at t.
-    Returns the number of waiting runs left."""
+    instead.  clock = (step, t, dt); gnd = (ag, moving, gap_ground); dr = (d0, r0, g_t): the gaps' state
+    and the ground accelerations at t.  Returns the number of waiting runs left."""
     step, t, dt = clock
     ag, moving, gap_ground = gnd
     blk_dof, blk_el, gb_lo, gb_hi, in_s = mr[0], mr[1], mr[3], mr[4], mr[5]
@@ -211,22 +230,18 @@ def _waiting_step(clock, gnd, g_t, n_wrun, mr, runs, ws, waits, row, gaps, st, d
     exact, ex_co, md, mqs, L0, p, beta, gamma = waits[0], waits[1], waits[4], waits[5], waits[6], waits[7], \
         waits[8], waits[9]
     Av, Vv, R0 = waits[10]
-    md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam = md
-    mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1 = row
     gap_i, gap_j, gap_size, gap_law = gaps[0], gaps[1], gaps[4], gaps[5]
-    u, v, a, fs, fd = st[0], st[1], st[2], st[4], st[5]
-    d0, r0 = dr
+    u, v = st[0], st[1]
+    d0, r0, g_t = dr
     for r in range(ag.shape[0]):
         g_w0[r] = g_t[r]
         g_w1[r] = ag[r, step + 1]
     for w in range(n_wrun):
         if exact:  # exact for the piecewise-linear ground motion, as in free flight
-            _exact_waiting(w_lo[w], w_hi[w], ex_co, g_w0, g_w1, md_start, md_phi_t, md_phi_tm, md_w2,
-                           md_c, md_gam, u, v, du_w, u_w1, v_w1, a_w1, mqs[0], mqs[1], mqs[2])
+            _exact_waiting((w_lo[w], w_hi[w]), ex_co, (g_w0, g_w1), md, (u, v), (du_w, u_w1, v_w1, a_w1), mqs)
         else:
-            _waiting_trial(w_lo[w], w_hi[w], w_elo[w], w_ehi[w], dt, L0, p, beta, gamma, mass,
-                           dof_a0, dof_motion, el_i, el_j, el_k, el_a1, g_w1, u, v, a, Av, Vv, fs, fd,
-                           R0, du_w, u_w1, v_w1, a_w1)
+            _waiting_trial((w_lo[w], w_hi[w], w_elo[w], w_ehi[w]), dt, (L0, p), (beta, gamma), row, g_w1, st,
+                           (Av, Vv, R0), (du_w, u_w1, v_w1, a_w1))
         stats[S_DOF_STEPS] += w_hi[w] - w_lo[w]
     # a gap between waiting buildings that may close in this step: its buildings step
     # (a gap between a waiting and a stepping building is screened at every substep)
@@ -284,19 +299,17 @@ def _join(join_gap, hw, g_t, mr, ws, waits, row, st, umax, energy, stats):
             if hw != h_ex[0]:
                 exact_coefficients(md_w2, md_c, hw, ex_h)
                 h_ex[0] = hw
-            _exact_waiting(lo, hi, ex_h, g_w0, g_t, md_start, md_phi_t, md_phi_tm, md_w2, md_c, md_gam,
-                           u, v, du_w, u_w1, v_w1, a_w1, mqs[0], mqs[1], mqs[2])
+            _exact_waiting((lo, hi), ex_h, (g_w0, g_t), md, (u, v), (du_w, u_w1, v_w1, a_w1), mqs)
         elif hw > 0.0:
-            if not _factor_range(hw, beta, gamma, mass, dof_a0, el_i, el_j, el_k, el_a1, p, L_w,
-                                 lo, hi, blk_el[b], blk_el[b + 1]):
+            if not _factor_range(hw, (beta, gamma), (mass, dof_a0, el_i, el_j, el_k, el_a1), p, L_w,
+                                 (lo, hi, blk_el[b], blk_el[b + 1])):
                 return False, e_in, w_int
             stats[S_FACTORIZATIONS] += 1
-            _waiting_trial(lo, hi, blk_el[b], blk_el[b + 1], hw, L_w, p, beta, gamma, mass, dof_a0,
-                           dof_motion, el_i, el_j, el_k, el_a1, g_t, u, v, a, Av, Vv, fs, fd, R0,
-                           du_w, u_w1, v_w1, a_w1)
+            _waiting_trial((lo, hi, blk_el[b], blk_el[b + 1]), hw, (L_w, p), (beta, gamma), row, g_t, st,
+                           (Av, Vv, R0), (du_w, u_w1, v_w1, a_w1))
         if hw > 0.0:
-            e_in, w_int = _waiting_commit(lo, hi, mass, dof_motion, g_w0, g_t, du_w, v_w1, a_w1,
-                                          u, v, a, fint, umax, e_in, w_int)
+            e_in, w_int = _waiting_commit((lo, hi), (mass, dof_motion), (g_w0, g_t), (du_w, u_w1, v_w1, a_w1), st,
+                                          umax, (e_in, w_int))
             stats[S_DOF_STEPS] += hi - lo
         in_s[b] = True
     stats[S_JOINS] += 1

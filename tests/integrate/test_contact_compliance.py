@@ -54,8 +54,7 @@ def _factored(s, h):
 
 def _scratch(ng, n):
     k = 2 * ng
-    return dict(dofs=np.empty(k, np.int64), order=np.empty(k, np.int64), pos=np.empty(k, np.int64),
-                span=np.empty(k), Kd=np.empty((k, k)))
+    return (np.empty(k, np.int64), np.empty(k, np.int64), np.empty(k, np.int64), np.empty(k), np.empty((k, k)))
 
 
 # dt and a deep contact substep: K_hat^-1 decays by ~0.05 per floor at the first,
@@ -95,13 +94,13 @@ def test_compliance_and_contact_share_match_dense_algebra(storeys, m, h):
     G_ref = B.T @ Kinv @ B
 
     G = np.empty((s.n_gap, s.n_gap))
-    _compliance_tridiagonal(0, m, act, gi, gj, sig, Sd, G, **_scratch(s.n_gap, s.n_dof))
+    _compliance_tridiagonal((0, m, act), gi, gj, (sig, Sd), G, _scratch(s.n_gap, s.n_dof))
     assert np.allclose(G[:m, :m], G_ref, rtol=1e-12, atol=1e-12 * np.abs(G_ref).max())
     # the same gaps as a group further down the list (the kernel's groups): the same block there
     off = s.n_gap - m
     shifted = np.r_[np.zeros(off, np.int64), act]
     G2 = np.full((s.n_gap, s.n_gap), np.nan)
-    _compliance_tridiagonal(off, s.n_gap, shifted, gi, gj, sig, Sd, G2, **_scratch(s.n_gap, s.n_dof))
+    _compliance_tridiagonal((off, s.n_gap, shifted), gi, gj, (sig, Sd), G2, _scratch(s.n_gap, s.n_dof))
     assert np.array_equal(G2[off:, off:], G[:m, :m])
     assert np.isnan(G2[:off, :]).all() and np.isnan(G2[:, :off]).all()  # nothing written outside it
 

@@ -48,8 +48,8 @@ def test_factor_and_solve_on_a_run_of_buildings_match_the_dense_solve(row, b0, b
     lo, hi = int(starts[b0]), int(starts[b1])
     h = 0.005 / 8
     L = np.full((s.n_dof, s.bandwidth + 2), np.nan)  # rows outside the run must stay untouched
-    assert K._factor_range(h, BETA, GAMMA, s.mass, s.dof_a0, s.el_i, s.el_j, s.el_k, s.el_a1, s.bandwidth, L,
-                           lo, hi, int(el_start[b0]), int(el_start[b1]))
+    assert K._factor_range(h, (BETA, GAMMA), (s.mass, s.dof_a0, s.el_i, s.el_j, s.el_k, s.el_a1), s.bandwidth, L,
+                           (lo, hi, int(el_start[b0]), int(el_start[b1])))
     assert np.all(np.isnan(L[:lo])) and np.all(np.isnan(L[hi:]))
     b = np.random.default_rng(b0 + 3 * b1).standard_normal(s.n_dof)
     x = np.full(s.n_dof, np.nan)
@@ -68,8 +68,8 @@ def test_internal_forces_on_a_run_of_buildings_match_k_u_and_c_v(row, b0, b1):
     u, v = rng.standard_normal(s.n_dof) * 1e-2, rng.standard_normal(s.n_dof) * 1e-1
     fs = np.full(s.n_dof, np.nan)
     fd = np.full(s.n_dof, np.nan)
-    K._internal_range(s.mass, s.dof_a0, s.el_i, s.el_j, s.el_k, s.el_a1, u, v, fs, fd, lo, hi,
-                      int(el_start[b0]), int(el_start[b1]))
+    K._internal_range((s.mass, s.dof_a0, s.el_i, s.el_j, s.el_k, s.el_a1), u, v, fs, fd,
+                      (lo, hi, int(el_start[b0]), int(el_start[b1])))
     # the run's rows only: its buildings are not coupled to the others by any storey
     ks = (s.stiffness_matrix() @ u)[lo:hi]
     cs = (s.damping_matrix() @ v)[lo:hi]

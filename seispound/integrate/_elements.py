@@ -224,3 +224,21 @@ def _gap_deformation(u, v, i, j, size, gu, gv):
 def _gap_trial(u, Du, Vv, cc, i, j, size, gu, gv):
     """:func:`_gap_kinematics` at the end of a trial step: u + Du, velocity Vv + cc Du (Newmark's)."""
     return _gap_kinematics(u[i], Du[i], u[j], Du[j], Vv[i], cc * Du[i], Vv[j], cc * Du[j], size, gu, gv)
+
+
+@njit(cache=True, inline="always")
+def _deformation(ne_dof, ne_coef, ne_size, q, u, du, v, c, gk, row):
+    """Deformation and rate of element q at u + du, v + c du; gk[row], gk[row + 1]: its ground terms.
+
+    (The rate's increment is c du, Newmark's gamma/(beta h) Du: a scale, not an array, since an
+    array argument built per call would be allocated per element and step.)
+    """
+    bdu = _dot(ne_dof, ne_coef, q, du)
+    return (_dot(ne_dof, ne_coef, q, u) + bdu - ne_size[q] + gk[row, q],
+            _dot(ne_dof, ne_coef, q, v) + c * bdu + gk[row + 1, q])
+
+
+@njit(cache=True, inline="always")
+def _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, row):
+    """Deformation and rate of element q at the state (u, v): ``_deformation`` without an increment."""
+    return _dot(ne_dof, ne_coef, q, u) - ne_size[q] + gk[row, q], _dot(ne_dof, ne_coef, q, v) + gk[row + 1, q]

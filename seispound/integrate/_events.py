@@ -204,3 +204,40 @@ def _screen_step(waiting, screened, gaps, active, trial, h, gk, states, aim, lan
             g_ev = g
             ev_waits = waits
     return theta, g_ev, ev_waits, n_land
+
+
+@njit(cache=True, inline="always")
+def _landed(target, n_land, land_too, toggles):
+    """The gaps a step that landed on target's event switches: target and the n_land gaps at their own crossing
+    within the landing tolerance (land_too, from the screen).  Fills toggles; returns their number."""
+    toggles[0] = target
+    n_tog = 1
+    for k in range(n_land):
+        toggles[n_tog] = land_too[k]
+        n_tog += 1
+    return n_tog
+
+
+@njit(cache=True, inline="always")
+def _screen_elements(ne_gap, active, d0, r0, d1, r1, h, landed, target, land_too):
+    """The first event of any gap in a trial step: (theta, gap, n_land) (theta 2: none).
+
+    An open gap may touch, a closed one separate, even within the step
+    (``_events._event_in_step``).  When the step ``landed`` on the event of
+    ``target``, the gaps at their own crossing within the landing tolerance
+    are listed in land_too: they switch together.
+    """
+    theta = 2.0
+    g_ev = -1
+    n_land = 0
+    for q in range(ne_gap.size):
+        if not ne_gap[q] or (landed and q == target):
+            continue
+        th, lands = _gap_event(d0[q], r0[q], d1[q], r1[q], h, active[q], landed)
+        if lands:
+            land_too[n_land] = q
+            n_land += 1
+        if th < theta:
+            theta = th
+            g_ev = q
+    return theta, g_ev, n_land

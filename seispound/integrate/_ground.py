@@ -79,3 +79,21 @@ def _gap_ground_at(moving, gap_ground, g, k):
     if not moving:
         return 0.0, 0.0
     return gap_ground[2, g, k], gap_ground[1, g, k]
+
+
+@njit(cache=True, inline="always")
+def _tick(t, h, clock, grd, gk, moving):
+    """After an accepted step of h [s] from t: the ground accelerations at its end (grd = (g_t, g_1), per motion
+    row) and each gap's ground terms (gk, when ``moving``) become its start's, and the clock moves on, to t_end
+    exactly where it lands within round-off of it (no drift across analysis steps; clock = (t_end, dt)).
+    Returns the new t [s]."""
+    t_end, dt = clock
+    g_t, g_1 = grd
+    t = t + h
+    if abs(t - t_end) <= 1e-9 * dt:
+        t = t_end
+    for r in range(g_t.size):
+        g_t[r] = g_1[r]
+    if moving:
+        _gap_ground_accept(gk)
+    return t

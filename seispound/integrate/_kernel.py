@@ -89,9 +89,9 @@ from ..contact._scalar import NONE, contact_force
 from ._borrow import borrow, borrow_all, keep_alive
 from ._contact import _begin_impact, _contact_step, _end_impact, _grid_level, _group_contacts, _peak_through
 from ._elements import _gap_deformation, _gap_kinematics, _gap_trial
-from ._events import LAND_TOL, _event_in_step, _screen_step
+from ._events import LAND_TOL, _event_in_step, _landed, _screen_step
 from ._free_flight import _block_matvec, _exact_trial, _free_flight
-from ._ground import GU0, GU1, GV0, GV1, _gap_ground_accept, _gap_ground_all, _ground_all
+from ._ground import GU0, GU1, GV0, GV1, _gap_ground_all, _ground_all, _tick
 from ._linear import (
     SEMISEPARABLE_GAPS,
     _compliance_tridiagonal,
@@ -623,11 +623,10 @@ def _join_now(join_gap, t, wt, energy, model, work, outs, stats):
 def _advance(t, h, clock, waiting, n_scr, work, moving):
     """After an accepted step of h [s] from t: each screened gap's penetration and rate at the step's end
     become its start's (while some building waits, the gaps screened, scr[:n_scr]: the others link waiting
-    buildings only), the ground terms move on, and the clock too (to t_end exactly where it lands within
-    round-off of it: no drift across analysis steps).  clock = (t_end, dt).  Returns the new t."""
-    t_end, dt = clock
+    buildings only), and the clock and the ground terms move on (``_ground._tick``; clock = (t_end, dt)).
+    Returns the new t."""
     ev, scr = work[9], work[10][7]
-    d0, r0, d_end, r_end, gk, g_t, g_1 = ev
+    d0, r0, d_end, r_end = ev[0], ev[1], ev[2], ev[3]
     if waiting:
         for qq in range(n_scr):
             g = scr[qq]
@@ -637,26 +636,7 @@ def _advance(t, h, clock, waiting, n_scr, work, moving):
         for g in range(d0.size):
             d0[g] = d_end[g]
             r0[g] = r_end[g]
-    t = t + h
-    if abs(t - t_end) <= 1e-9 * dt:
-        t = t_end
-    for r in range(g_t.size):
-        g_t[r] = g_1[r]
-    if moving:
-        _gap_ground_accept(gk)
-    return t
-
-
-@njit(cache=True, inline="always")
-def _landed(target, n_land, land_too, toggles):
-    """The gaps a step that landed on target's event switches: target and those at their own crossing
-    within the landing tolerance (``_screen_step``).  Fills toggles; returns their number."""
-    toggles[0] = target
-    n_tog = 1
-    for k in range(n_land):
-        toggles[n_tog] = land_too[k]
-        n_tog += 1
-    return n_tog
+    return _tick(t, h, clock, (ev[5], ev[6]), ev[4], moving)
 
 
 @njit(cache=True, inline="always")

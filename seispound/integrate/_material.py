@@ -28,7 +28,7 @@ keep (zeta, e) set at onset and do not change within an impact.  Hysteretic
 storey laws: BILINEAR (kinematic hardening) and BOUC_WEN (smooth, Bouc 1967,
 Wen 1976).  Both drivers call every law through this protocol (``_contact._begin_impact``
 for the onset, ``_newton`` for the trials).  Free flight with
-Bouc-Wen storeys (``_general._bouc_wen_flight``) carries z along a step's path
+Bouc-Wen storeys (``_general_flight._bouc_wen_flight``) carries z along a step's path
 with ``bouc_wen_path`` and commits the state it reached.
 """
 

@@ -243,13 +243,13 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     hysteretic_flight : bool
         General driver, exact scheme, Bouc-Wen storeys (with or without bilinear ones): while every
         gap is open an analysis step is one exact map with each Bouc-Wen storey's offset force
-        iterated within it (``_general._bouc_wen_flight``; default).  False: those rows take their
+        iterated within it (``_general_flight._bouc_wen_flight``; default).  False: those rows take their
         physical path (Newmark substeps) throughout, the reference the tests compare against (the
         two differ by the physical path's time-discretisation error).
     tangent : bool
         General driver: the Newton iteration of a group that holds storeys
         with history runs on the banded tangent stiffness (default;
-        ``_general._newton_tangent``).  False: on the dense condensed system
+        ``_general_solve._newton_tangent``).  False: on the dense condensed system
         of the group's forces, the off switch the tests compare against (the
         two agree to the Newton tolerance ``rtol``).
 

@@ -44,7 +44,7 @@ storey's deformation against its elastic range as it screens the gaps.  A Bouc-W
 storey's force is k delta - c with the offset c = (1 - alpha) k (delta - z), which
 changes within the step: with ``quadratic`` the load is the quadratic through c at the
 step's start, middle and end, two more columns per storey (Gq, Egq), and the driver
-iterates the offsets (``_general._bouc_wen_flight``).
+iterates the offsets (``_general_flight._bouc_wen_flight``).
 
 Either way the damping work of a step follows from the balance, input =
 kinetic + linear strain + damping (nothing else acts in free flight): exact
@@ -240,7 +240,7 @@ def _exact_maps(M, C, K, L, R, h, beta, gamma, substeps, quadratic=False):
 
     R (nb, ns): loads R c(s) on the building, c held constant over the step (bilinear storeys'
     constant terms), or with ``quadratic`` the quadratic through c0, c0 + dm and c0 + d1 at the
-    step's start, middle and end (a Bouc-Wen storey's offset force, ``_general._free_flight``):
+    step's start, middle and end (a Bouc-Wen storey's offset force, ``_general_flight._free_flight``):
     c(s) = c0 + (4 dm - d1) s / h + (2 d1 - 4 dm) s^2 / h^2.  Gc, Egc: the columns of c0; Gq
     (nx, 2 ns), Egq (2 nm, 2 ns): those of [dm; d1] (zeros without ``quadratic``).
 

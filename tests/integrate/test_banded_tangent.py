@@ -1,4 +1,4 @@
-"""The general driver's banded-tangent Newton (``_general._newton_tangent``) against its dense
+"""The general driver's banded-tangent Newton (``_general_solve._newton_tangent``) against its dense
 condensed Newton (``_newton._newton``, ``tangent=False``): the off switch.
 
 Both iterate on the same condensed residual of the active elements' forces to the same tolerance

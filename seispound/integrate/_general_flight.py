@@ -1,0 +1,393 @@
+"""Free flight on the general driver: an analysis step with every gap open by each building's state-transition map.
+
+Private to the general driver (``_general.py``).  While every gap is open and every storey is bilinear
+and elastic, or Bouc-Wen, each building moves by its own linear map over the analysis step
+(``transition.py``: exact for the piecewise-linear ground motion, or the same Newmark substeps
+composed), with each bilinear storey's plastic offset and each Bouc-Wen storey's offset force as
+inputs.  The step is screened for gap events and for bilinear storeys leaving their elastic range
+(``_events``' cubic bound); a Bouc-Wen storey's offset is iterated within the step
+(``_bouc_wen_flight``).  An accepted step commits the state, the storeys' laws and the energies;
+one that is not leaves the state as it was, and the driver takes the step on its physical path.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from seispound._jit import njit
+
+from ._elements import _deformation_at, kinetic_energy
+from ._events import _event_in_step, _hermite, _screen_elements
+from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
+from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY
+from ._material import ST_DELTA, ST_EPS, ST_PLASTIC, ST_Z, bouc_wen_path, material_commit, material_trial
+from ._outputs import S_DOF_STEPS, S_FREE_FLIGHT, S_ITERATIONS, S_STEPS
+
+# a free-flight step's Bouc-Wen terms: the fixed point stops when the next sweep would move no term's rise
+# by more than BW_FLIGHT_TOL (1 - alpha) k dy, and is given up (the physical path takes the step) after
+# BW_FLIGHT_ITER sweeps
+BW_FLIGHT_TOL = 1e-7
+BW_FLIGHT_ITER = 30
+# 3-point Gauss-Legendre on [0, 1] (exact for the quartic c(s) delta'(s) of the storey's work)
+_GL_T = (0.5 - 0.5 * 0.7745966692414834, 0.5, 0.5 + 0.5 * 0.7745966692414834)
+_GL_W = (5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0)
+
+
+@njit(cache=True, inline="always")
+def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, stats):
+    """The analysis step ending at t_end in free flight (``_free_flight_trial``), accepted if no gap
+    touches, no bilinear storey leaves its elastic range in it and the Bouc-Wen storeys' terms
+    converge (``_bouc_wen_flight``).
+
+    clock = (t_end, dt) [s]; the groups as ``general_kernel`` names them (st, elem, ev, fl: its work
+    arrays, ``_general_work``); peaks = (umax, fmax); energy = (input, linear elements' and dampers' work,
+    work on the storeys, contact work) [J].  Returns (accepted, energy): the bilinear storeys' work
+    exactly (an elastic storey's force is linear in its deformation), the Bouc-Wen storeys' along their
+    path, the linear elements' from the balance, input = kinetic + the two, as nothing else acts
+    (``transition.py``).  Not accepted, nothing but the trial arrays changed.
+    """
+    t_end, dt = clock
+    ag, moving, ne_ground = motion
+    ne_code, ne_par, ne_gap = elg[3], elg[4], elg[5]
+    u, v = st[0], st[1]
+    st_c, active = elem[0], elem[6]
+    d0, r0, d1, r1, land_too, gk, g_t, g_1 = ev[0], ev[1], ev[2], ev[3], ev[5], ev[6], ev[7], ev[8]
+    u1, v1, a1, xs, ys, cst, rise, zs = fl
+    st_elem = ff[10]
+    for j in range(st_elem.size):  # F = k delta - c: c = (1 - alpha) k delta_p, fixed while elastic
+        q = st_elem[j]
+        if ne_code[q] == BOUC_WEN:  # c = (1 - alpha) k (delta - z) at the step's start
+            cst[j] = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * (st_c[q, ST_DELTA] - st_c[q, ST_Z])
+        else:
+            cst[j] = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * st_c[q, ST_PLASTIC]
+    _ground_all(ag, t_end, dt, g_1)
+    de = _free_flight_trial(ff, u, v, g_t, g_1, u1, v1, a1, xs, ys, cst)
+    if moving:
+        _gap_ground_all(ne_ground, t_end, dt, gk, GU1)
+    dwh = 0.0
+    if ff[16]:  # Bouc-Wen storeys: their terms within the step
+        ok, de_bw, dwh = _bouc_wen_flight(ff, elg, (st_c, cst), (u, v), (u1, v1, a1), xs[xs.size - 2 * g_t.size:],
+                                          gk, dt, (rise, zs))
+        if not ok:
+            return False, energy
+        de += de_bw
+    for q in range(ne_gap.size):
+        if ne_gap[q]:
+            d1[q], r1[q] = _deformation_at(elg[0], elg[1], elg[2], q, u1, v1, gk, GU1)
+    if _screen_elements(ne_gap, active, d0, r0, d1, r1, dt, False, -1, land_too)[1] >= 0:
+        return False, energy
+    ok, dwh = _elastic_through(ff, elg, st_c, (u, v, u1, v1), (d1, r1), gk, dt, cst, zs, dwh)
+    if not ok:
+        return False, energy
+    dke = kinetic_energy(lin[0], lin[1], lin[2], lin[9], v1) - kinetic_energy(lin[0], lin[1], lin[2], lin[9], v)
+    _flight_commit(ff, elg, st, elem, ev, fl, peaks, moving)
+    stats[S_FREE_FLIGHT] += 1
+    stats[S_ITERATIONS] += int(rise[rise.size - 1])  # the Bouc-Wen terms' sweeps (0 without)
+    stats[S_STEPS] += 1
+    stats[S_DOF_STEPS] += u.size
+    e_in, w_lin, w_hys, e_cont = energy
+    return True, (e_in + de, w_lin + (de - dke - dwh), w_hys + dwh, e_cont)
+
+
+@njit(cache=True, inline="always")
+def _elastic_through(ff, elg, st_c, x, dr1, gk, dt, cst, zs, dwh):
+    """Does each bilinear storey stay within its elastic range over the whole free-flight step (the
+    cubic bound of ``_events``)?  Returns (ok, dwh plus the bilinear storeys' work [J]); fills each storey's end
+    deformation and rate into dr1 = (d1, r1) (a Bouc-Wen storey's from its path, zs)."""
+    ne_dof, ne_coef, ne_size, ne_code, ne_par = elg[0], elg[1], elg[2], elg[3], elg[4]
+    u, v, u1, v1 = x
+    d1, r1 = dr1
+    st_elem = ff[10]
+    for j in range(st_elem.size):
+        q = st_elem[j]
+        if ne_code[q] == BOUC_WEN:
+            d1[q] = zs[6 * j + 2]
+            continue
+        k = ne_par[q, B_K]
+        hi = st_c[q, ST_PLASTIC] + ne_par[q, B_FY] / k
+        lo = st_c[q, ST_PLASTIC] - ne_par[q, B_FY] / k
+        ds0, rs0 = _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, GU0)
+        ds1, rs1 = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
+        tol = 1e-12 * (hi - lo)
+        if (_event_in_step(ds0 - hi, rs0, ds1 - hi, rs1, dt, True, tol) <= 1.0
+                or _event_in_step(lo - ds0, -rs0, lo - ds1, -rs1, dt, True, tol) <= 1.0):
+            return False, 0.0
+        d1[q] = ds1
+        r1[q] = rs1
+        dwh += 0.5 * k * (ds1 * ds1 - ds0 * ds0) - cst[j] * (ds1 - ds0)
+    return True, dwh
+
+
+@njit(cache=True, inline="always")
+def _flight_commit(ff, elg, st, elem, ev, fl, peaks, moving):
+    """An accepted free-flight step's end becomes the state: (u, v, a), the gaps' and storeys'
+    deformations, the storeys' committed laws and forces, the peaks and the ground terms."""
+    ne_code, ne_par, ne_gap = elg[3], elg[4], elg[5]
+    u, v, a = st[0], st[1], st[2]
+    st_c, st_t, F = elem[0], elem[1], elem[2]
+    d0, r0, d1, r1, gk, g_t, g_1 = ev[0], ev[1], ev[2], ev[3], ev[6], ev[7], ev[8]
+    u1, v1, a1, zs = fl[0], fl[1], fl[2], fl[7]
+    umax, fmax = peaks
+    st_elem = ff[10]
+    for i in range(u.size):
+        u[i] = u1[i]
+        v[i] = v1[i]
+        a[i] = a1[i]
+        umax[i] = max(umax[i], abs(u[i]))
+    for q in range(ne_gap.size):
+        if ne_gap[q]:
+            d0[q] = d1[q]
+            r0[q] = r1[q]
+    for j in range(st_elem.size):  # the storeys' state at the step's end (elastic: delta_p kept)
+        q = st_elem[j]
+        d0[q] = d1[q]  # (the output's recoverable energy reads the storeys' deformations here)
+        if ne_code[q] == BOUC_WEN:  # the state its path reached
+            for c in range(st_c.shape[1]):
+                st_t[q, c] = st_c[q, c]
+            st_t[q, ST_Z], st_t[q, ST_EPS], st_t[q, ST_DELTA] = zs[6 * j], zs[6 * j + 1], d1[q]
+            F[q] = ne_par[q, B_K] * d1[q] - (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * (d1[q] - zs[6 * j])
+        else:
+            F[q] = material_trial(ne_code[q], ne_par, st_c, st_t, q, d1[q], r1[q])[0]
+        material_commit(st_c, st_t, q)
+        fmax[q] = max(fmax[q], abs(F[q]))
+    for r in range(g_t.size):
+        g_t[r] = g_1[r]
+    if moving:
+        _gap_ground_accept(gk)
+
+
+@njit(cache=True, fastmath=True)
+def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs, ys, cst):
+    """Every building's state after one analysis step with every gap open, and the step's input work [J].
+
+    ff = (on, start, off_x, off_g, off_e, phi, G0, G1, Egx, Egg): the maps of ``transition.py``,
+    [u1; v1; a1] = Phi x0 + G0 g0 + G1 g1 per building (x0 = [u; v] on its DOFs), the input work
+    g^T Egx x0 + g^T Egg g with g = [g0; g1] the ground accelerations of the motion rows at the
+    step's start and end; each bilinear storey's constant term cst[j] [N] (storey j of ff's st_elem)
+    adds its columns Gc and its input work Egc.  xs, ys: scratch (2 n + 2 nm,), (3 n,).  (fastmath: sums may be
+    reordered, and so vectorised; round-off only.)
+    """
+    start, off_x, off_g, off_e, phi, G0, G1, egx, egg = ff[1], ff[2], ff[3], ff[4], ff[5], ff[6], ff[7], ff[8], ff[9]
+    st_start, gc, egc = ff[11], ff[12], ff[13]
+    o_c = 0
+    o_e = 0
+    nm = g0.size
+    gs = xs[xs.size - 2 * nm:]
+    for m in range(nm):
+        gs[m] = g0[m]
+        gs[nm + m] = g1[m]
+    de = 0.0
+    for c in range(start.size - 1):
+        a = start[c]
+        nb = start[c + 1] - a
+        nx = 2 * nb
+        for k in range(nb):  # x0 = [u; v] of the building, contiguous
+            xs[k] = u[a + k]
+            xs[nb + k] = v[a + k]
+        # the maps are row-major in flat arrays: each row's product is a dot product over unit-stride
+        # memory on unsigned subscripts (``_UNSIGNED`` in _linear.py: signed ones made numba's
+        # wraparound turn the vectorised loads into gathers)
+        unx, unm = np.uint64(nx), np.uint64(nm)
+        ox, og = np.uint64(off_x[c]), np.uint64(off_g[c])
+        for r in range(np.uint64(3 * nb)):
+            s = 0.0
+            row = ox + r * unx
+            for k in range(unx):
+                s += phi[row + k] * xs[k]
+            row = og + r * unm
+            for m in range(unm):
+                s += G0[row + m] * gs[m] + G1[row + m] * gs[unm + m]
+            ys[r] = s
+        for r in range(nb):
+            u1[a + r] = ys[r]
+            v1[a + r] = ys[nb + r]
+            a1[a + r] = ys[nx + r]
+        oe = np.uint64(off_e[c])
+        for m in range(np.uint64(2 * nm)):
+            if gs[m] == 0.0:
+                continue
+            s = 0.0
+            row = oe + m * unx
+            for k in range(unx):
+                s += egx[row + k] * xs[k]
+            de += gs[m] * s
+        for j in range(st_start[c], st_start[c + 1]):  # the bilinear storeys' constant terms
+            cj = cst[j]
+            jj = j - st_start[c]
+            if cj != 0.0:
+                base = o_c + jj * 3 * nb
+                for r in range(nb):
+                    u1[a + r] += gc[base + r] * cj
+                    v1[a + r] += gc[base + nb + r] * cj
+                    a1[a + r] += gc[base + nx + r] * cj
+                for m in range(2 * nm):
+                    de += gs[m] * egc[o_e + jj * 2 * nm + m] * cj
+        ns_c = st_start[c + 1] - st_start[c]
+        o_c += 3 * nb * ns_c
+        o_e += 2 * nm * ns_c
+    for i in range(2 * nm):
+        for j in range(2 * nm):
+            de += gs[i] * egg[i, j] * gs[j]
+    return de
+
+
+@njit(cache=True)
+def _bouc_wen_flight(ff, elg, mat, x0, x1, gs, gk, h, bw):
+    """Iterate the Bouc-Wen storeys' terms over a free-flight step; (converged, input work [J], storeys' work [J]).
+
+    A Bouc-Wen storey's force is k delta - c with c = (1 - alpha) k (delta - z) (``_material``): the
+    linear part holds k, and c is a load that changes within the step.  It is taken as the quadratic
+    through c0 (committed, ``cst``), c0 + dm at the middle and c0 + d1 at the end, whose response the
+    maps give (``transition._exact_maps``, columns gq); z follows the end state's Hermite cubic of each
+    storey's deformation (``_material.bouc_wen_path``), which gives new dm, d1: a fixed point, swept over the
+    storeys (Gauss-Seidel; the contraction is about (1 - alpha) (omega h)^2 / 6 per sweep) from the
+    last step's quadratic extrapolated.  After each sweep the change its updates made in every
+    storey's deformation at the middle and the end, times the law's slope there, predicts the next
+    sweep's corrections; when none would exceed BW_FLIGHT_TOL (1 - alpha) k dy the sweep is not made
+    and z takes that linear correction instead (one path integration per storey and sweep saved).
+
+    elg: the elements with state (``general_kernel``); mat = (st_c, cst); x0 = (u, v) the step's start;
+    x1 = (u1, v1, a1) (in: with c0 held) end with the final terms; gs the ground accelerations at the
+    step's start and end (2 nm,); bw = (rise, zs): rise (2 ns + 1) holds dm, d1 and the sweeps made; zs
+    (6 ns) per storey z at the end, eps at the end, the deformation at the end and at the middle of its
+    last integration, and the law's slopes there.  The storey's work int (k delta - c) d(delta) is exact
+    for the quadratic c and cubic delta (3-point Gauss-Legendre; derived here, not read from a source).
+    """
+    start, st_elem, st_start, gq = ff[1], ff[10], ff[11], ff[14]
+    ne_code = elg[3]
+    rise, zs = bw
+    o_q = 0
+    for c in range(start.size - 1):  # the first guess: the last step's quadratic, extrapolated
+        a = start[c]
+        nb = start[c + 1] - a
+        for j in range(st_start[c], st_start[c + 1]):
+            if ne_code[st_elem[j]] != BOUC_WEN:
+                continue
+            dm, d1 = 2.0 * rise[2 * j + 1] - 3.0 * rise[2 * j], 5.0 * rise[2 * j + 1] - 8.0 * rise[2 * j]
+            rise[2 * j], rise[2 * j + 1] = dm, d1
+            _add_rise(gq, o_q + (j - st_start[c]) * 6 * nb, nb, a, dm, d1, x1)
+        o_q += 6 * nb * (st_start[c + 1] - st_start[c])
+    for it in range(BW_FLIGHT_ITER):
+        rise[rise.size - 1] = it + 1  # sweeps made (the driver's iteration count)
+        _bouc_wen_sweep(ff, elg, mat, x0, x1, gk, h, bw)
+        if _bouc_wen_next(ff, elg, x0, x1, gk, h, zs) <= BW_FLIGHT_TOL:
+            de, dwh = _bouc_wen_work(ff, elg, mat, x0, x1, gs, gk, h, bw)
+            return True, de, dwh
+    return False, 0.0, 0.0
+
+
+@njit(cache=True, inline="always")
+def _bouc_wen_sweep(ff, elg, mat, x0, x1, gk, h, bw):
+    """One Gauss-Seidel sweep of ``_bouc_wen_flight`` over the Bouc-Wen storeys: each storey's z along its
+    end state's cubic, its rises dm, d1 [N] corrected and added to the end state x1."""
+    start, st_elem, st_start, gq = ff[1], ff[10], ff[11], ff[14]
+    ne_dof, ne_coef, ne_size, ne_code, ne_par = elg[0], elg[1], elg[2], elg[3], elg[4]
+    st_c, cst = mat
+    u, v = x0
+    u1, v1 = x1[0], x1[1]
+    rise, zs = bw
+    o_q = 0
+    for c in range(start.size - 1):
+        a = start[c]
+        nb = start[c + 1] - a
+        for j in range(st_start[c], st_start[c + 1]):
+            q = st_elem[j]
+            if ne_code[q] != BOUC_WEN:
+                continue
+            ds0, rs0 = _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, GU0)
+            ds1, rs1 = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
+            ca, cb, cc = _cubic(ds0, rs0, ds1, rs1, h)
+            zm, z1, eps1, pm, p1 = bouc_wen_path(ne_par, q, st_c[q, ST_Z], st_c[q, ST_EPS], ds0, ca, cb, cc)
+            dm_ = _hermite(0.5, ds0, rs0, ds1, rs1, h)
+            scale = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K]
+            ddm = scale * (dm_ - zm) - cst[j] - rise[2 * j]
+            dd1 = scale * (ds1 - z1) - cst[j] - rise[2 * j + 1]
+            zs[6 * j], zs[6 * j + 1], zs[6 * j + 2], zs[6 * j + 3] = z1, eps1, ds1, dm_
+            zs[6 * j + 4], zs[6 * j + 5] = pm, p1
+            if ddm == 0.0 and dd1 == 0.0:
+                continue
+            rise[2 * j] += ddm
+            rise[2 * j + 1] += dd1
+            _add_rise(gq, o_q + (j - st_start[c]) * 6 * nb, nb, a, ddm, dd1, x1)
+        o_q += 6 * nb * (st_start[c + 1] - st_start[c])
+
+
+@njit(cache=True, inline="always")
+def _bouc_wen_next(ff, elg, x0, x1, gk, h, zs):
+    """The next sweep's largest correction, predicted from how far the last sweep's updates moved each
+    Bouc-Wen storey's deformation at the step's middle and end times the law's slope there, relative
+    to its yield displacement (``_bouc_wen_flight``)."""
+    st_elem = ff[10]
+    ne_dof, ne_coef, ne_size, ne_code, ne_par = elg[0], elg[1], elg[2], elg[3], elg[4]
+    u, v = x0
+    u1, v1 = x1[0], x1[1]
+    pred = 0.0
+    for j in range(st_elem.size):
+        q = st_elem[j]
+        if ne_code[q] != BOUC_WEN:
+            continue
+        ds0, rs0 = _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, GU0)
+        ds1, rs1 = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
+        dm_ = _hermite(0.5, ds0, rs0, ds1, rs1, h)
+        step1, stepm = ds1 - zs[6 * j + 2], dm_ - zs[6 * j + 3]
+        pred = max(pred, (abs((1.0 - zs[6 * j + 4]) * stepm) + abs((1.0 - zs[6 * j + 5]) * step1))
+                   / ne_par[q, BW_DY])
+    return pred
+
+
+@njit(cache=True, inline="always")
+def _bouc_wen_work(ff, elg, mat, x0, x1, gs, gk, h, bw):
+    """The converged step's input work of the rises [J], z's linear correction, and the Bouc-Wen storeys'
+    work along the final path [J] (``_bouc_wen_flight``)."""
+    start, st_elem, st_start, egq = ff[1], ff[10], ff[11], ff[15]
+    ne_dof, ne_coef, ne_size, ne_code, ne_par = elg[0], elg[1], elg[2], elg[3], elg[4]
+    cst = mat[1]
+    u, v = x0
+    u1, v1 = x1[0], x1[1]
+    rise, zs = bw
+    nm = gs.size // 2
+    de = 0.0
+    dwh = 0.0
+    o_e = 0
+    for c in range(start.size - 1):
+        for j in range(st_start[c], st_start[c + 1]):
+            q = st_elem[j]
+            if ne_code[q] != BOUC_WEN:
+                continue
+            dm, d1 = rise[2 * j], rise[2 * j + 1]
+            base = o_e + (j - st_start[c]) * 4 * nm
+            for m in range(2 * nm):
+                de += gs[m] * (egq[base + m] * dm + egq[base + 2 * nm + m] * d1)
+            ds0, rs0 = _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, GU0)
+            ds1, rs1 = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
+            step1 = ds1 - zs[6 * j + 2]
+            zs[6 * j] += zs[6 * j + 5] * step1
+            zs[6 * j + 1] += zs[6 * j] * step1 / (ne_par[q, BW_DY] * ne_par[q, BW_DY])
+            zs[6 * j + 2] = ds1
+            ca, cb, cc = _cubic(ds0, rs0, ds1, rs1, h)
+            work_c = 0.0  # int c d(delta) = int_0^1 c(tau) delta'(tau) d tau
+            for g in range(3):
+                tau = _GL_T[g]
+                ct = cst[j] + (4.0 * dm - d1) * tau + (2.0 * d1 - 4.0 * dm) * tau * tau
+                work_c += _GL_W[g] * ct * (ca + tau * (2.0 * cb + 3.0 * cc * tau))
+            dwh += 0.5 * ne_par[q, B_K] * (ds1 * ds1 - ds0 * ds0) - work_c
+        o_e += 4 * nm * (st_start[c + 1] - st_start[c])
+    return de, dwh
+
+
+@njit(cache=True, inline="always")
+def _cubic(ds0, rs0, ds1, rs1, h):
+    """(ca, cb, cc) of the deformation's cubic Hermite over a step of h [s]: delta(tau) = ds0 + ca tau + cb tau^2
+    + cc tau^3, tau in [0, 1], from its values and rates at both ends."""
+    ca, cd = h * rs0, ds1 - ds0
+    return ca, 3.0 * cd - 2.0 * ca - h * rs1, ca + h * rs1 - 2.0 * cd
+
+
+@njit(cache=True, inline="always")
+def _add_rise(gq, base, nb, a, dm, d1, x1):
+    """Add a storey's rises dm, d1 [N] through its columns (at ``base`` in gq) to building a's end state
+    x1 = (u1, v1, a1)."""
+    u1, v1, a1 = x1
+    for r in range(nb):
+        u1[a + r] += gq[base + r] * dm + gq[base + 3 * nb + r] * d1
+        v1[a + r] += gq[base + nb + r] * dm + gq[base + 4 * nb + r] * d1
+        a1[a + r] += gq[base + 2 * nb + r] * dm + gq[base + 5 * nb + r] * d1

@@ -56,43 +56,47 @@ KERNEL = Path(newmark_module.__file__).with_name("_kernel.py")
 P_ATTEMPTS, P_DOF_ATTEMPTS, P_MULTIRATE, P_CONTACT_ATTEMPTS, P_CLOSED_SUM = 0, 1, 2, 3, 4
 N_PROBE = 5
 
+# The counts live in the kernel's stats array, extended past its N_STATS counters (``counting``): at
+# X + P_* the probe, X + 5 the attempts of the current analysis step, X + 6 + i whether DOF i was in a
+# closed or targeted gap's buildings in it (X = N_STATS).
 # (anchor, code, where): code inserted before or after the single occurrence of anchor
 _PATCHES = [
-    ("multi, outs, cat, stats):\n", "multi, outs, cat, stats, probe):\n", "replace"),
-    ("    hmin = 1e-9 * dt ", "    busy = np.zeros(n, np.bool_)\n    step_attempts = 0\n", "before"),
-    ("        t_end = (step + 1) * dt\n",
-     "        for i in range(n):\n"
-     "            busy[i] = False\n"
-     "        step_attempts = 0\n", "after"),
-    ("                converged = m_act == 0\n",
-     "                step_attempts += 1\n"
-     "                probe[0] += 1\n"
-     "                probe[1] += n\n"
-     "                if m_act > 0:\n"
-     "                    probe[3] += 1\n"
-     "                    probe[4] += m_act\n"
-     "                for q in range(m_act + 1):\n"
-     "                    gq = act_list[q] if q < m_act else target\n"
-     "                    if gq >= 0:\n"
-     "                        for i in range(gap_lo[gq], gap_hi[gq]):\n"
-     "                            busy[i] = True\n", "after"),
-    ("        # ---- output at the analysis step ---------------------------------------\n",
-     "        n_busy = 0\n"
-     "        for i in range(n):\n"
-     "            if busy[i]:\n"
-     "                n_busy += 1\n"
-     "        if n_busy > 0:\n"
-     "            probe[2] += step_attempts * n_busy + (n - n_busy)\n"
-     "        else:\n"
-     "            probe[2] += step_attempts * n\n", "before"),
+    ("    t_end = (step + 1) * dt\n    n_wrun = _who_steps(",  # an analysis step on the physical path starts
+     "    t_end = (step + 1) * dt\n"
+     "    for i in range(st[0].size + 1):\n"
+     "        stats[N_STATS + 5 + i] = 0\n"
+     "    n_wrun = _who_steps(", "replace"),
+    ("            return NEWTON_FAILED, h, target, (False, False, 0, 0, -1, -1, -1), h_cached, pending\n"
+     "        if not converged:\n",  # an attempt's predictor ran
+     "            return NEWTON_FAILED, h, target, (False, False, 0, 0, -1, -1, -1), h_cached, pending\n"
+     "        stats[N_STATS + 5] += 1\n"
+     "        stats[N_STATS + 0] += 1\n"
+     "        stats[N_STATS + 1] += st[0].size\n"
+     "        if cnt[1] > 0:\n"
+     "            stats[N_STATS + 3] += 1\n"
+     "            stats[N_STATS + 4] += cnt[1]\n"
+     "        for q in range(cnt[1] + 1):\n"
+     "            gq = work[6][0][q] if q < cnt[1] else target\n"
+     "            if gq >= 0:\n"
+     "                for i in range(gaps[2][gq], gaps[3][gq]):\n"
+     "                    stats[N_STATS + 6 + i] = 1\n"
+     "        if not converged:\n", "replace"),
+    ("    return OK, clk[1], clk[2], cnt, ps, energy\n",  # ... and ends
+     "    n_busy = 0\n"
+     "    for i in range(st[0].size):\n"
+     "        n_busy += stats[N_STATS + 6 + i]\n"
+     "    if n_busy > 0:\n"
+     "        stats[N_STATS + 2] += stats[N_STATS + 5] * n_busy + (st[0].size - n_busy)\n"
+     "    else:\n"
+     "        stats[N_STATS + 2] += stats[N_STATS + 5] * st[0].size\n", "before"),
 ]
 
 
 def counting_kernel():
     """Compile the counting copy of the kernel; return its module.
 
-    Its ``integrate_kernel`` takes one more argument, ``probe`` (N_PROBE,) float,
-    which it fills with the counts named P_* above.
+    Its ``integrate_kernel`` takes a stats array of N_STATS + 6 + n entries and counts past the first N_STATS
+    (``_PATCHES``); ``counting`` routes the package's calls through it.
     """
     src = KERNEL.read_text()
     src = src.replace("from ..", "from seispound.").replace("from ._", "from seispound.integrate._")
@@ -120,7 +124,15 @@ def counting(module, probe):
     """Route :func:`seispound.integrate.integrate` through the counting kernel, filling ``probe``."""
     shim = type(sys)("seispound_counting_shim")
     shim.__dict__.update(module.__dict__)
-    shim.integrate_kernel = lambda *args, **kw: module.integrate_kernel(*args, **kw, probe=probe)
+    def integrate_kernel(*args):
+        stats = args[-1]
+        ext = np.zeros(module.N_STATS + 6 + args[0][0].size, np.int64)
+        out = module.integrate_kernel(*args[:-1], ext)
+        stats[:] = ext[:stats.size]
+        probe[:] += ext[module.N_STATS:module.N_STATS + N_PROBE]
+        return out
+
+    shim.integrate_kernel = integrate_kernel
     saved = newmark_module.K
     newmark_module.K = shim
     try:

@@ -32,8 +32,8 @@ def test_banded_linear_forces_equal_the_dense_product():
     tab = system.element_tables()
     M, C, K = system.matrices()
     p = int(tab["p"])
-    KC = linear_bands(tab["ms_dof"], tab["ms_coef"], tab["ms_val"], tab["ms_a0"], tab["le_dof"], tab["le_coef"],
-                      tab["le_k"], tab["le_c"], p, system.n_dof)
+    KC = linear_bands(tuple(tab[k] for k in ("ms_dof", "ms_coef", "ms_val", "ms_a0", "le_dof", "le_coef", "le_k",
+                                                       "le_c")), p, system.n_dof)
     rng = np.random.default_rng(3)
     worst = 0.0
     for _ in range(5):

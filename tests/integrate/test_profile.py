@@ -115,8 +115,8 @@ def test_listed_entries_of_k_and_c_add_as_the_dense_product():
     row = newmark._general_row(system)
     tab, order = row["tab"], row["order"]
     n = system.n_dof
-    bands = linear_bands(tab["ms_dof"], tab["ms_coef"], tab["ms_val"], tab["ms_a0"], tab["le_dof"], tab["le_coef"],
-                         tab["le_k"], tab["le_c"], int(tab["p"]), n)
+    bands = linear_bands(tuple(tab[k] for k in ("ms_dof", "ms_coef", "ms_val", "ms_a0", "le_dof", "le_coef", "le_k",
+                                                          "le_c")), int(tab["p"]), n)
     M, C, K = (np.asarray(x)[np.ix_(order, order)] for x in system.matrices())
     rng = np.random.default_rng(5)
     u, v = rng.normal(size=n) * 1e-2, rng.normal(size=n) * 1e-1

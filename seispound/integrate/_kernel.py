@@ -312,7 +312,7 @@ def _fast_work(n, nm, p, settings, modal, multi, gaps, init):
     return fac, st, incr, wc, semi, nwt, lists, cs, gf, ev, mr, runs, ws, blocks, mw
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _flight_block(step, pending, fb, energy, model, work, outs, stats):
     """Every gap open: march a block of analysis steps from ``step`` in modal coordinates (``_free_flight``),
     up to the first step in which a gap may close, which the physical path then takes from the block's own

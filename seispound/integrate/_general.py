@@ -315,7 +315,7 @@ def _physical_step(t_end, ls, energy, cfg, model, work, outs, cat, stats):
                 return status, (t, n_imp, m_act, n_comp, h_A), energy
             n_comp = _group_contacts(m_act, act, ne_lo, ne_hi, comp_off)
             # a contact force may jump at an event (LVe's dashpot): equilibrium at fixed (u, v)
-            _acceleration((fac[3], p), lin, load, g_t, st, elg, F)
+            _acceleration((fac[3], p), (lin[8], lin[10]), load[:2], g_t, (st[0], st[1], st[2], st[8]), elg[:2], F)
     return OK, (t, n_imp, m_act, n_comp, h_A), energy
 
 
@@ -331,7 +331,8 @@ def _iterate(lv, step, counts, cfg, model, work, h_A, stats):
     """
     h, cm, cc = step
     m_act, n_comp = counts
-    beta, gamma, rtol, max_iter, tangent, pT, el_pred, p = cfg[1], cfg[2], cfg[4], cfg[5], cfg[6], cfg[7], cfg[9], cfg[10]
+    beta, gamma, rtol, max_iter = cfg[1], cfg[2], cfg[4], cfg[5]
+    tangent, pT, el_pred, p = cfg[6], cfg[7], cfg[9], cfg[10]
     lin, load, elg = model[0], model[1], model[2]
     fac, st, lists, nwt, tang, elem, ev = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
     ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi = elg
@@ -399,7 +400,7 @@ def _advance(t, h, clock, ne_gap, ev, moving):
     return _tick(t, h, clock, (ev[7], ev[8]), ev[6], moving)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _accept(h, coef, lin, load, elg, acts, grd, st, elem, peaks, energy):
     """Accept the trial step: state, committed laws, peaks and every force's trapezoidal work.
 
@@ -521,7 +522,7 @@ def _start(dt, n_sub, motion, elg, elem, cs, cat, lists, st, ev, eq):
             material_commit(st_c, st_t, q)
     n_comp = _group_contacts(m_act, act, ne_lo, ne_hi, comp_off)
     _ground_all(ag, 0.0, dt, g_t)
-    _acceleration((LM, p), lin, load, g_t, st, elg, F)
+    _acceleration((LM, p), (lin[8], lin[10]), load[:2], g_t, (st[0], st[1], st[2], st[8]), elg[:2], F)
     es_lin0 = strain_energy(lin[4], lin[5], lin[6], u)
     rec0 = 0.0
     for q in range(ne_size.size):

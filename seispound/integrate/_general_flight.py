@@ -65,7 +65,7 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
         _gap_ground_all(ne_ground, t_end, dt, gk, GU1)
     dwh = 0.0
     if ff[16]:  # Bouc-Wen storeys: their terms within the step
-        ok, de_bw, dwh = _bouc_wen_flight(ff, elg, (st_c, cst), (u, v), (u1, v1, a1), xs[xs.size - 2 * g_t.size:],
+        ok, de_bw, dwh = _bouc_wen_flight(ff, elg[:5], (st_c, cst), (u, v), (u1, v1, a1), xs[xs.size - 2 * g_t.size:],
                                           gk, dt, (rise, zs))
         if not ok:
             return False, energy
@@ -245,12 +245,12 @@ def _bouc_wen_flight(ff, elg, mat, x0, x1, gs, gk, h, bw):
     sweep's corrections; when none would exceed BW_FLIGHT_TOL (1 - alpha) k dy the sweep is not made
     and z takes that linear correction instead (one path integration per storey and sweep saved).
 
-    elg: the elements with state (``general_kernel``); mat = (st_c, cst); x0 = (u, v) the step's start;
-    x1 = (u1, v1, a1) (in: with c0 held) end with the final terms; gs the ground accelerations at the
-    step's start and end (2 nm,); bw = (rise, zs): rise (2 ns + 1) holds dm, d1 and the sweeps made; zs
-    (6 ns) per storey z at the end, eps at the end, the deformation at the end and at the middle of its
-    last integration, and the law's slopes there.  The storey's work int (k delta - c) d(delta) is exact
-    for the quadratic c and cubic delta (3-point Gauss-Legendre; derived here, not read from a source).
+    elg = (ne_dof, ne_coef, ne_size, ne_code, ne_par): the elements with state; mat = (st_c, cst); x0 = (u, v)
+    the step's start; x1 = (u1, v1, a1) (in: with c0 held) end with the final terms; gs the ground accelerations
+    at the step's start and end (2 nm,); bw = (rise, zs): rise (2 ns + 1) holds dm, d1 and the sweeps made; zs
+    (6 ns) per storey z at the end, eps at the end, the deformation at the end and at the middle of its last
+    integration, and the law's slopes there.  The storey's work int (k delta - c) d(delta) is exact for the
+    quadratic c and cubic delta (3-point Gauss-Legendre; derived here, not read from a source).
     """
     start, st_elem, st_start, gq = ff[1], ff[10], ff[11], ff[14]
     ne_code = elg[3]

@@ -110,20 +110,21 @@ def _predictor(h, coef, fac, lin, load, g1, st, storeys):
 def _acceleration(eq, lin, load, g, st, elg, F):
     """Relative acceleration from equilibrium M a = p - K u - C v - B F: a = st[2] [m/s^2].
 
-    eq = (LM, pm): the mass matrix's factor and half bandwidth; load = (dof_load, dof_motion, ...); g the
-    ground accelerations per motion row; st the state group (``_general_work``); elg the elements with
-    state, F their forces [N].  Also leaves K u + C v in st[8].
+    eq = (LM, pm): the mass matrix's factor and half bandwidth; lin = (K's and C's bands, the envelope);
+    load = (dof_load, dof_motion); g the ground accelerations per motion row; st = (u, v, a, flin); elg =
+    (ne_dof, ne_coef) the elements with state, F their forces [N].  Also leaves K u + C v in flin.
+    (Called with only what it reads: a call copies every array of the groups it takes.)
     """
     LM, pm = eq
-    u, v, a, flin = st[0], st[1], st[2], st[8]
-    linear_forces(lin[8], u, v, flin)
+    u, v, a, flin = st
+    linear_forces(lin[0], u, v, flin)
     _load(load[0], load[1], g, a)
     for i in range(a.size):
         a[i] -= flin[i]
     for q in range(F.size):
         if F[q] != 0.0:
             _scatter(elg[0], elg[1], q, -F[q], a)
-    _solve_profile(LM, pm, lin[10], a, a, 0, a.size)
+    _solve_profile(LM, pm, lin[1], a, a, 0, a.size)
 
 
 @njit(cache=True, inline="always")
@@ -176,9 +177,9 @@ def _solve_groups(grp, elg, stp, frc, fac, band, wrk, opts):
             if h != h_A:  # A's band at this step size, the tangent's starting point
                 assemble_band(cm, cc, 1.0, lin, pT, Aband)
                 h_A = h
-            ok_c, it_c = _newton_tangent((lo_c, hi_c, act), (ne_dof, ne_coef, ne_code, ne_par, ne_gap), (dl, rl, Fm, cc),
-                                         (st_c, st_t), (Lf, p, Aband, T, pT, dlo, dhi, lin[10]), twork,
-                                         (scale, rtol, max_iter))
+            ok_c, it_c = _newton_tangent((lo_c, hi_c, act), (ne_dof, ne_coef, ne_code, ne_par, ne_gap),
+                                         (dl, rl, Fm, cc), (st_c, st_t), (Lf, p, Aband, T, pT, dlo, dhi, lin[10]),
+                                         twork, (scale, rtol, max_iter))
         else:
             _columns(Lf, p, lin[10], ne_dof, ne_coef, ne_lo, ne_hi, act[lo_c:hi_c], hi_c - lo_c, W, W_ok)
             for k in range(lo_c, hi_c):

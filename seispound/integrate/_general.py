@@ -384,7 +384,7 @@ def _iterate(lv, step, counts, cfg, model, work, h_A, stats):
                 F1[q] = f
         if elastic:
             return True, True, h_A
-    return True, True, h_A
+    return True, True, h_A  # (not reached: phase 1 returns)
 
 
 @njit(cache=True, inline="always")

@@ -61,34 +61,31 @@ N_PROBE = 5
 # closed or targeted gap's buildings in it (X = N_STATS).
 # (anchor, code, where): code inserted before or after the single occurrence of anchor
 _PATCHES = [
-    ("    t_end = (step + 1) * dt\n    n_wrun = _who_steps(",  # an analysis step on the physical path starts
-     "    t_end = (step + 1) * dt\n"
-     "    for i in range(st[0].size + 1):\n"
-     "        stats[N_STATS + 5 + i] = 0\n"
-     "    n_wrun = _who_steps(", "replace"),
-    ("            return NEWTON_FAILED, h, target, (False, False, 0, 0, -1, -1, -1), h_cached, pending\n"
-     "        if not converged:\n",  # an attempt's predictor ran
-     "            return NEWTON_FAILED, h, target, (False, False, 0, 0, -1, -1, -1), h_cached, pending\n"
-     "        stats[N_STATS + 5] += 1\n"
-     "        stats[N_STATS + 0] += 1\n"
-     "        stats[N_STATS + 1] += st[0].size\n"
-     "        if cnt[1] > 0:\n"
-     "            stats[N_STATS + 3] += 1\n"
-     "            stats[N_STATS + 4] += cnt[1]\n"
-     "        for q in range(cnt[1] + 1):\n"
-     "            gq = work[6][0][q] if q < cnt[1] else target\n"
-     "            if gq >= 0:\n"
-     "                for i in range(gaps[2][gq], gaps[3][gq]):\n"
-     "                    stats[N_STATS + 6 + i] = 1\n"
-     "        if not converged:\n", "replace"),
-    ("    return OK, clk[1], clk[2], cnt, ps, energy\n",  # ... and ends
-     "    n_busy = 0\n"
-     "    for i in range(st[0].size):\n"
-     "        n_busy += stats[N_STATS + 6 + i]\n"
-     "    if n_busy > 0:\n"
-     "        stats[N_STATS + 2] += stats[N_STATS + 5] * n_busy + (st[0].size - n_busy)\n"
-     "    else:\n"
-     "        stats[N_STATS + 2] += stats[N_STATS + 5] * st[0].size\n", "before"),
+    ("        t_end = (step + 1) * dt\n        wt, ps, pending = _begin_step(",  # an analysis step on the physical
+     "        t_end = (step + 1) * dt\n"                                          # path starts
+     "        for i in range(st[0].size + 1):\n"
+     "            stats[N_STATS + 5 + i] = 0\n"
+     "        wt, ps, pending = _begin_step(", "replace"),
+    ("                ps = (h_cached,) + ps[1:]\n                if not ok:\n                    break\n",
+     "                stats[N_STATS + 5] += 1\n"  # an attempt's predictor ran
+     "                stats[N_STATS + 0] += 1\n"
+     "                stats[N_STATS + 1] += st[0].size\n"
+     "                if cnt[1] > 0:\n"
+     "                    stats[N_STATS + 3] += 1\n"
+     "                    stats[N_STATS + 4] += cnt[1]\n"
+     "                for q in range(cnt[1] + 1):\n"
+     "                    gq = work[6][0][q] if q < cnt[1] else target\n"
+     "                    if gq >= 0:\n"
+     "                        for i in range(gaps[2][gq], gaps[3][gq]):\n"
+     "                            stats[N_STATS + 6 + i] = 1\n", "after"),
+    ("        step += 1\n        if store:  # (the no-pounding twin",  # ... and ends
+     "        n_busy = 0\n"
+     "        for i in range(st[0].size):\n"
+     "            n_busy += stats[N_STATS + 6 + i]\n"
+     "        if n_busy > 0:\n"
+     "            stats[N_STATS + 2] += stats[N_STATS + 5] * n_busy + (st[0].size - n_busy)\n"
+     "        else:\n"
+     "            stats[N_STATS + 2] += stats[N_STATS + 5] * st[0].size\n", "before"),
 ]
 
 

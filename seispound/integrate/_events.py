@@ -19,6 +19,9 @@ from ._ground import GU1, GV1
 
 # A located step ends on its event when |delta| <= LAND_TOL x the step's travel.
 LAND_TOL = 1e-7
+# how an attempt at a step ends (each driver's ``_screen_attempt``): redone up to its first event, accepted,
+# its events switched in place at its start, a waiting building joins (fast driver), or no step can be taken
+REDO, ACCEPT, AT_ONCE, JOIN, FAILED = 0, 1, 2, 3, 4
 
 
 @njit(cache=True)

@@ -53,7 +53,7 @@ from ._borrow import borrow, borrow_all, keep_alive
 from ._contact import _begin_impact, _contact_step, _end_impact, _grid_level, _group_contacts, _peak_through
 from ._elements import (_deformation, _deformation_at, _dot, assemble_band, kinetic_energy, linear_bands,
                         linear_forces, lumped_diagonal, strain_energy)
-from ._events import LAND_TOL, _event_in_step, _landed, _screen_elements
+from ._events import ACCEPT, AT_ONCE, FAILED, LAND_TOL, REDO, _event_in_step, _landed, _screen_elements
 from ._general_flight import _free_flight
 from ._general_solve import N_LEVELS, _acceleration, _cached_factor, _factor_cache, _predictor, _solve_groups
 from ._ground import GU0, GU1, _gap_ground_all, _ground_all, _tick
@@ -157,26 +157,64 @@ def general_kernel(linear, p, numbering, elements, state0, motion, init, setting
     n_storeys = 0
     for q in range(nn):
         n_storeys += 0 if ne_gap[q] else 1
-    ls = (0.0, n_imp, m_act, n_comp, -1.0)  # t, impacts, active elements, their groups, h of A's band
+    hmin = 1e-9 * dt  # events closer than this to a step's start switch in place
+    t, h_A = 0.0, -1.0  # h_A: the step of A's band
     flin_stale = False
     step = 0
     while step < nsteps:
         t_end = (step + 1) * dt
         ok = False
-        if ff[0] and ls[2] == n_storeys:  # every gap open (the storeys are always active): FREE FLIGHT
+        if ff[0] and m_act == n_storeys:  # every gap open (the storeys are always active): FREE FLIGHT
             ok, energy = _free_flight(ff, (t_end, dt), motion, elg, lin, st, elem, ev, work[7], outs[5:], energy,
                                       stats)
         if ok:
-            ls = (t_end,) + ls[1:]
+            t = t_end
             flin_stale = True
         else:  # the PHYSICAL PATH: Newmark steps, contact substeps, events
             if flin_stale:  # K u + C v at the state free flight left (the corrector's trapezoidal work needs it)
                 linear_forces(lin[8], st[0], st[1], st[8])
                 flin_stale = False
-            status, ls, energy = _physical_step(t_end, ls, energy, cfg, model, work, outs, cat, stats)
-            if status != OK:
-                return status, ls[1], ls[0]
-            if store:
+            while t_end - t > hmin:
+                # ---- a SUBSTEP: its size (the rest of the analysis step, or the contact substep grid), then
+                # ATTEMPTS up to the first event
+                h, lev = _contact_step(t, t_end, dt, m_act, lists[0], elg[3], elem[7], elem[8], fac[2], N_LEVELS,
+                                       lev_free)
+                target = -1
+                outcome, landed, n_tog, cm, cc = FAILED, False, 0, 0.0, 0.0
+                for attempt in range(200):
+                    # TRIAL: factor, PREDICTOR, the ITERATIONS on the active elements
+                    ok, converged, h, cm, cc, h_A = _trial_step((h, lev, t), (m_act, n_comp), cfg, model, work, h_A,
+                                                                stats)
+                    if not ok:
+                        break
+                    if not converged:  # a quarter of the step
+                        stats[S_REJECTED] += 1
+                        h *= 0.25
+                        target = -1
+                        if h < hmin:
+                            break
+                        continue
+                    # EVENT SCREEN: does a gap touch or separate inside the step?
+                    outcome, theta, g_ev, landed, n_tog = _screen_attempt((h, hmin, cc), target, elg, st, elem, ev,
+                                                                          stats)
+                    if outcome != REDO:
+                        break
+                    h = theta * h  # up to the event
+                    target = g_ev
+                    outcome = FAILED  # (unless a later attempt ends otherwise)
+                if outcome == FAILED:
+                    return NEWTON_FAILED, n_imp, t
+                if outcome == ACCEPT:
+                    # ---- ACCEPT / COMMIT: state, committed laws, peaks, work; the clock moves on
+                    t, energy, n_tog = _commit_step((h, cm, cc), (t, t_end, dt), (target, landed, n_tog), m_act,
+                                                    energy, model, work, outs, cat, stats)
+                if n_tog > 0:
+                    # ---- SWITCH: an impact's onset (the law's onset hook) or end at each gap toggled
+                    status, n_imp, m_act, n_comp = _switch_events(n_tog, t, (n_imp, m_act), cfg, model, work, outs,
+                                                                  cat)
+                    if status != OK:
+                        return status, n_imp, t
+            if store:  # the storeys' deformation at the step's end, for the output
                 for q in range(nn):
                     if not ne_gap[q]:
                         ev[0][q] = _dot(elg[0], elg[1], q, st[0]) - elg[2][q]
@@ -184,7 +222,7 @@ def general_kernel(linear, p, numbering, elements, state0, motion, init, setting
         if store:
             _output(step, False, st, ev[7], load, lin, elg, elem, ev[0], (es_lin0, rec0), energy, outs)
     keep_alive(owners)
-    return OK, ls[1], ls[0]
+    return OK, n_imp, t
 
 
 @njit(cache=True)
@@ -234,106 +272,22 @@ def _general_work(n, nn, nm, bands, n_ff, dt, state0, init):
 
 
 @njit(cache=True, inline="always")
-def _physical_step(t_end, ls, energy, cfg, model, work, outs, cat, stats):
-    """The rest of the analysis step ending at t_end [s] on the physical path: Newmark steps (contact
-    substeps while a gap is closed), each by attempts of factor, predictor and Newton (``_iterate``) and
-    the event screen, redone up to the first event; then ACCEPT / COMMIT, and a SWITCH at each event.
-
-    ls = (t, impacts, active elements, their groups, h of the banded tangent's A); energy = (input,
-    linear work, storeys' work, contact work) [J]; cfg = (dt, beta, gamma, n_sub, rtol, max_iter,
-    tangent, pT, lev_free, el_pred, p); model = (lin, load, elg, motion, cs); work: ``_general_work``'s
-    groups.  Returns (status, ls, energy).
-    """
-    t, n_imp, m_act, n_comp, h_A = ls
-    dt, n_sub, lev_free, p = cfg[0], cfg[3], cfg[8], cfg[10]
-    lin, load, elg, motion, cs = model
-    fac, st, lists, elem, ev = work[0], work[1], work[2], work[5], work[6]
-    ne_code, ne_gap, ne_lo, ne_hi = elg[3], elg[5], elg[6], elg[7]
-    act, comp_off = lists[0], lists[1]
-    F, active, hsub, age = elem[2], elem[6], elem[7], elem[8]
-    d0, r0, d1, r1, toggles, land_too, gk, g_t, g_1 = ev
-    hmin = 1e-9 * dt  # events closer than this to the step's start switch in place
-    while t_end - t > 1e-9 * dt:
-        # ---- step size: the rest of the analysis step, or the contact substep grid
-        h, lev = _contact_step(t, t_end, dt, m_act, act, ne_code, hsub, age, fac[2], N_LEVELS, lev_free)
-        target = -1
-        landed = False
-        located = False
-        n_tog = 0
-        n_land = 0
-        cc = 0.0
-        cm = 0.0
-        for attempt in range(200):
-            lv, h = _grid_level(h, lev, fac[2], dt)
-            cm = 1.0 / (cfg[1] * h * h)
-            cc = cfg[2] / (cfg[1] * h)
-            _ground_all(motion[0], t + h, dt, g_1)
-            if motion[1]:
-                _gap_ground_all(motion[2], t + h, dt, gk, GU1)
-            ok, converged, h_A = _iterate(lv, (h, cm, cc), (m_act, n_comp), cfg, model, work, h_A, stats)
-            if not ok:
-                return NEWTON_FAILED, (t, n_imp, m_act, n_comp, h_A), energy
-            if not converged:
-                stats[S_REJECTED] += 1
-                h *= 0.25
-                target = -1
-                if h < hmin:
-                    return NEWTON_FAILED, (t, n_imp, m_act, n_comp, h_A), energy
-                continue
-            # ---- EVENT SCREEN: does a gap touch or separate inside the step?
-            for q in range(ne_gap.size):
-                if ne_gap[q]:
-                    d1[q], r1[q] = _deformation(elg[0], elg[1], elg[2], q, st[0], st[6], st[3], cc, gk, GU1)
-            landed = False
-            if target >= 0:
-                landed = abs(d1[target]) <= LAND_TOL * max(abs(r1[target]), abs(r0[target])) * h + 1e-15
-            theta, g_ev, n_land = _screen_elements(ne_gap, active, d0, r0, d1, r1, h, landed, target, land_too)
-            if g_ev < 0:
-                located = True
-                break
-            stats[S_REJECTED] += 1
-            if theta * h < hmin:  # events at the current time: switch them in place, then step
-                n_tog = _at_once(h, hmin, ne_gap, active, (d0, r0, d1, r1), landed, target, toggles)
-                break
-            h = theta * h
-            target = g_ev
-        if not located and n_tog == 0:
-            return NEWTON_FAILED, (t, n_imp, m_act, n_comp, h_A), energy
-        if located:
-            # ---- ACCEPT / COMMIT
-            energy = _accept(h, (cm, cc), lin, load, elg, (act, m_act), (g_t, g_1), st, elem,
-                             (outs[5], outs[6], cat[4]), energy)
-            stats[S_STEPS] += 1
-            t = _advance(t, h, (t_end, dt), ne_gap, ev, motion[1])
-            if landed:
-                n_tog = _landed(target, n_land, land_too, toggles)
-        if n_tog > 0:
-            # ---- SWITCH: an impact's onset (the law's onset hook) or end at each gap in toggles
-            status, n_imp, m_act = _switch(toggles, n_tog, t, n_sub, elg, (d0, r0), F, outs[6], cs, cat, act,
-                                           (n_imp, m_act))
-            if status != OK:
-                return status, (t, n_imp, m_act, n_comp, h_A), energy
-            n_comp = _group_contacts(m_act, act, ne_lo, ne_hi, comp_off)
-            # a contact force may jump at an event (LVe's dashpot): equilibrium at fixed (u, v)
-            _acceleration((fac[3], p), (lin[8], lin[10]), load[:2], g_t, (st[0], st[1], st[2], st[8]), elg[:2], F)
-    return OK, (t, n_imp, m_act, n_comp, h_A), energy
-
-
-@njit(cache=True, inline="always")
-def _iterate(lv, step, counts, cfg, model, work, h_A, stats):
-    """One attempt at a step of h [s] (``_physical_step``): factor, PREDICTOR, and the ITERATIONS.
+def _trial_step(at, counts, cfg, model, work, h_A, stats):
+    """One attempt at a step of h [s] from t: the step on the factor grid, the ground at its end, A's factor,
+    the PREDICTOR and the ITERATIONS.
 
     Phase 0, the elastic predictor (every storey bilinear, ``el_pred``): the storeys at their elastic
     stiffness in the linear part, Newton on the closed gaps alone, kept if every storey ends the step
     elastic.  Phase 1: the predictor with every element force of state frozen at zero, then Newton on
-    the active elements' forces, condensed through A^-1 (``_solve_groups``).  step = (h, cm, cc); counts
-    = (active elements, their groups).  Returns (ok: A positive definite, converged, h_A).
+    the active elements' forces, condensed through A^-1 (``_solve_groups``).  at = (h, its grid level,
+    t); counts = (active elements, their groups).  Returns (ok: A positive definite, converged, h on the
+    grid, 1/(beta h^2), gamma/(beta h), h_A).
     """
-    h, cm, cc = step
+    h, lev, t = at
     m_act, n_comp = counts
-    beta, gamma, rtol, max_iter = cfg[1], cfg[2], cfg[4], cfg[5]
+    dt, beta, gamma, rtol, max_iter = cfg[0], cfg[1], cfg[2], cfg[4], cfg[5]
     tangent, pT, el_pred, p = cfg[6], cfg[7], cfg[9], cfg[10]
-    lin, load, elg = model[0], model[1], model[2]
+    lin, load, elg, motion = model[0], model[1], model[2], model[3]
     fac, st, lists, nwt, tang, elem, ev = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
     ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi = elg
     act, comp_off, actg, compg_off = lists
@@ -341,6 +295,12 @@ def _iterate(lv, step, counts, cfg, model, work, h_A, stats):
     st_c, st_t, F, F1, F_old, h_old, active, hsub, age, cur_imp = elem
     u, Du, Vv, R0 = st[0], st[6], st[3], st[5]
     gk = ev[6]
+    lv, h = _grid_level(h, lev, fac[2], dt)
+    cm = 1.0 / (beta * h * h)
+    cc = gamma / (beta * h)
+    _ground_all(motion[0], t + h, dt, ev[8])
+    if motion[1]:
+        _gap_ground_all(motion[2], t + h, dt, gk, GU1)
     frc = (F, F1, F_old, h_old, age, Fm, dl, rl, st_c, st_t)
     twork = (tang[2], tang[3], resv, kt, tang[4], Sm, ym, tang[5])
     for phase in range(2):
@@ -350,7 +310,7 @@ def _iterate(lv, step, counts, cfg, model, work, h_A, stats):
             ok, Lp, Wp, Wp_ok = _cached_factor(lv, h, cm, cc, lin, (ne_dof, ne_coef, ne_par, ne_gap), True, pT,
                                                fac[1], stats)
             if not ok:
-                return False, False, h_A
+                return False, False, h, cm, cc, h_A
             pb = pT
             m_g = 0
             for k in range(m_act):
@@ -362,7 +322,7 @@ def _iterate(lv, step, counts, cfg, model, work, h_A, stats):
             ok, Lp, Wp, Wp_ok = _cached_factor(lv, h, cm, cc, lin, (ne_dof, ne_coef, ne_par, ne_gap), False, p,
                                                fac[0], stats)
             if not ok:
-                return False, False, h_A
+                return False, False, h, cm, cc, h_A
             pb = p
             grp = (m_act, act, n_comp, comp_off)
         _predictor(h, (beta, gamma), (Lp, pb), lin, load, ev[8], st, (phase == 0, ne_dof, ne_coef, ne_gap, F))
@@ -374,7 +334,7 @@ def _iterate(lv, step, counts, cfg, model, work, h_A, stats):
         stats[S_ITERATIONS] += it
         if phase == 1:
             stats[S_MAX_ITER] = max(stats[S_MAX_ITER], it)
-            return True, ok, h_A
+            return True, ok, h, cm, cc, h_A
         elastic = ok
         for q in range(ne_gap.size):
             if elastic and not ne_gap[q]:
@@ -383,8 +343,73 @@ def _iterate(lv, step, counts, cfg, model, work, h_A, stats):
                 elastic = dfd == ne_par[q, B_K]
                 F1[q] = f
         if elastic:
-            return True, True, h_A
-    return True, True, h_A  # (not reached: phase 1 returns)
+            return True, True, h, cm, cc, h_A
+    return True, True, h, cm, cc, h_A  # (not reached: phase 1 returns)
+
+
+@njit(cache=True, inline="always")
+def _screen_attempt(hs, target, elg, st, elem, ev, stats):
+    """The EVENT SCREEN of a converged trial step: does a gap touch or separate inside it?
+
+    hs = (h [s], hmin [s], gamma/(beta h)); target: the gap the step aims at.  Each gap's deformation and
+    rate at the step's end go to ev's (d1, r1).  Returns (outcome, theta, g_ev, landed, n): ACCEPT (no event
+    inside; landed: the target's event is at the step's end; n the gaps landed with it, in land_too), REDO
+    (redo up to theta h, the first event, at gap g_ev), AT_ONCE (the events are at the step's start: n gaps
+    to switch in place, in toggles) or FAILED (an event at the start that no gap owns).
+    """
+    h, hmin, cc = hs
+    ne_gap, active = elg[5], elem[6]
+    d0, r0, d1, r1, toggles, land_too, gk = ev[0], ev[1], ev[2], ev[3], ev[4], ev[5], ev[6]
+    for q in range(ne_gap.size):
+        if ne_gap[q]:
+            d1[q], r1[q] = _deformation(elg[0], elg[1], elg[2], q, st[0], st[6], st[3], cc, gk, GU1)
+    landed = False
+    if target >= 0:
+        landed = abs(d1[target]) <= LAND_TOL * max(abs(r1[target]), abs(r0[target])) * h + 1e-15
+    theta, g_ev, n_land = _screen_elements(ne_gap, active, d0, r0, d1, r1, h, landed, target, land_too)
+    if g_ev < 0:
+        return ACCEPT, theta, g_ev, landed, n_land
+    stats[S_REJECTED] += 1
+    if theta * h < hmin:  # events at the current time: switch them in place, then step
+        n_tog = _at_once(h, hmin, ne_gap, active, (d0, r0, d1, r1), landed, target, toggles)
+        return AT_ONCE if n_tog > 0 else FAILED, theta, g_ev, landed, n_tog
+    return REDO, theta, g_ev, landed, 0
+
+
+@njit(cache=True, inline="always")
+def _commit_step(step, clock, aimed, m_act, energy, model, work, outs, cat, stats):
+    """ACCEPT / COMMIT the trial step (``_accept``) and move the clock on (``_advance``).  step = (h [s],
+    1/(beta h^2), gamma/(beta h)); clock = (t, the analysis step's end, dt) [s]; aimed = (the gap aimed at,
+    whether its event landed at the step's end, the gaps landed with it).  Returns (t, energy, the gaps to
+    switch, in toggles)."""
+    h, cm, cc = step
+    t, t_end, dt = clock
+    target, landed, n_land = aimed
+    lin, load, elg, motion = model[0], model[1], model[2], model[3]
+    st, lists, elem, ev = work[1], work[2], work[5], work[6]
+    energy = _accept(h, (cm, cc), lin, load, elg, (lists[0], m_act), (ev[7], ev[8]), st, elem,
+                     (outs[5], outs[6], cat[4]), energy)
+    stats[S_STEPS] += 1
+    t = _advance(t, h, (t_end, dt), elg[5], ev, motion[1])
+    n_tog = _landed(target, n_land, ev[5], ev[4]) if landed else 0
+    return t, energy, n_tog
+
+
+@njit(cache=True, inline="always")
+def _switch_events(n_tog, t, counts, cfg, model, work, outs, cat):
+    """SWITCH at t [s] the n_tog gaps in toggles (``_switch``), regroup the active elements and take the
+    accelerations from equilibrium at fixed (u, v) (a contact force may jump at an event: LVe's dashpot).
+    counts = (impacts, active elements).  Returns (status, impacts, active elements, their groups)."""
+    n_sub, p = cfg[3], cfg[10]
+    lin, load, elg, cs = model[0], model[1], model[2], model[4]
+    fac, st, lists, elem, ev = work[0], work[1], work[2], work[5], work[6]
+    status, n_imp, m_act = _switch(ev[4], n_tog, t, n_sub, elg, (ev[0], ev[1]), elem[2], outs[6], cs, cat,
+                                   lists[0], counts)
+    if status != OK:
+        return status, n_imp, m_act, 0
+    n_comp = _group_contacts(m_act, lists[0], elg[6], elg[7], lists[1])
+    _acceleration((fac[3], p), (lin[8], lin[10]), load[:2], ev[7], (st[0], st[1], st[2], st[8]), elg[:2], elem[2])
+    return OK, n_imp, m_act, n_comp
 
 
 @njit(cache=True, inline="always")

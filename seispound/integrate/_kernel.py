@@ -89,7 +89,7 @@ from ..contact._scalar import NONE, contact_force
 from ._borrow import borrow, borrow_all, keep_alive
 from ._contact import _begin_impact, _contact_step, _end_impact, _grid_level, _group_contacts, _peak_through
 from ._elements import _gap_deformation, _gap_kinematics, _gap_trial
-from ._events import LAND_TOL, _event_in_step, _landed, _screen_step
+from ._events import ACCEPT, AT_ONCE, FAILED, JOIN, LAND_TOL, REDO, _event_in_step, _landed, _screen_step
 from ._free_flight import _block_matvec, _exact_trial, _free_flight
 from ._ground import GU0, GU1, GV0, GV1, _gap_ground_all, _ground_all, _tick
 from ._linear import (
@@ -206,6 +206,7 @@ def integrate_kernel(row, p, init, gaps, motion, settings, modal, multi, outs, c
     energy = (e_in, 0.0, 0.0)  # input, storey + damping work (damping = it - strain change), contact [J]
     ps = (-1.0, -1, n_run, n_ss, n_scr, n)  # the scratch factor's step, a gap aimed at, who steps (``_stepping``)
     fb = (0, 16, -1, 2.0, -1, False)  # free-flight blocks: first step, length, event hint, modal state current
+    hmin = 1e-9 * dt  # events closer than this to a step's start switch in place
     t = 0.0
     pending = -1  # output row still waiting for its strain energy
     step = 0
@@ -215,11 +216,56 @@ def integrate_kernel(row, p, init, gaps, motion, settings, modal, multi, outs, c
             step, t, pending, fb, energy = _flight_block(step, pending, fb, energy, model, work, outs, stats)
             continue
         fb = fb[:5] + (False,)
-        # ---- the PHYSICAL PATH: substeps, attempts, events
-        status, t, pending, cnt, ps, energy = _physical_step((step, t, pending), cnt, ps, fb, energy, model, work,
-                                                             outs, cat, stats)
-        if status != OK:
-            return status, cnt[0], t
+        # ---- the PHYSICAL PATH: who steps (the others wait a whole step: ``_multirate``), then its substeps
+        t_end = (step + 1) * dt
+        wt, ps, pending = _begin_step((step, t, pending), cnt[1], ps, model, work, outs, stats)
+        while t_end - t > hmin:
+            # ---- a SUBSTEP: its size, then ATTEMPTS up to the first event
+            h, lev, target = _step_size(step, t, cnt[1], ps[1], fb, model, work)
+            outcome, landed, g_ev, n_tog = FAILED, False, -1, 0
+            for attempt in range(200):
+                # TRIAL: factor, PREDICTOR, contact NEWTON
+                ok, converged, h, cc, h_cached, pending = _trial_step(h, lev, (step, t, pending), cnt,
+                                                                      ps[:1] + ps[2:], wt[0], model, work, outs,
+                                                                      stats)
+                ps = (h_cached,) + ps[1:]
+                if not ok:
+                    break
+                if not converged:  # a quarter of the step
+                    stats[S_REJECTED] += 1
+                    h *= 0.25
+                    target = -1
+                    if h < hmin:
+                        break
+                    continue
+                # EVENT SCREEN: does a gap open or close inside the step?
+                outcome, theta, g_ev, landed, n_tog = _screen_attempt(h, cc, t, target, wt, ps, model, work,
+                                                                      stats)
+                if outcome != REDO:
+                    break
+                h = theta * h  # up to the event
+                target = g_ev
+                outcome = FAILED  # (unless a later attempt ends otherwise)
+            if outcome == FAILED:
+                return NEWTON_FAILED, cnt[0], t
+            ps = (ps[0], target if outcome == ACCEPT and target >= 0 and not landed else -1) + ps[2:]
+            if outcome == JOIN:
+                # ---- the waiting buildings of gap g_ev catch up to t and step from here
+                ok, ps, wt, energy = _join_now(g_ev, t, wt, energy, model, work, outs, stats)
+                if not ok:
+                    return NEWTON_FAILED, cnt[0], t
+                continue
+            if outcome == ACCEPT:
+                # ---- ACCEPT / COMMIT: energy, state, peaks, contact forces; the clock moves on
+                t, energy, n_tog = _commit_step(h, (t, t_end), (target, landed, n_tog), wt[0], cnt[1], ps, energy,
+                                                model, work, outs, cat, stats)
+            if n_tog > 0:
+                # ---- SWITCH: an impact's onset (the law's onset hook) or end at each gap toggled
+                status, cnt = _switch_events(n_tog, t, cnt, ps[2], model, work, outs, cat)
+                if status != OK:
+                    return status, cnt[0], t
+        if wt[0]:  # ---- the waiting buildings' step is accepted with the stepping ones' last
+            energy = _end_step(wt[1], energy, model, work, outs)
         step += 1
         if store:  # (the no-pounding twin keeps its peaks only: no histories to write)
             _output_row(step, st, ev[5], row, gf[0], outs, energy)
@@ -366,22 +412,19 @@ def _flight_block(step, pending, fb, energy, model, work, outs, stats):
 
 
 @njit(cache=True, inline="always")
-def _physical_step(clk, cnt, ps, fb, energy, model, work, outs, cat, stats):
-    """The analysis step from t on the physical path: who steps (with multi-rate stepping, the buildings of
-    the closed gaps' groups; the others wait, taking the whole analysis step at once: ``_multirate``), its
-    substeps to the step's end (``_substep``), then the waiting buildings' step committed.
+def _begin_step(clk, m_act, ps, model, work, outs, stats):
+    """The analysis step's start on the physical path: who steps (with multi-rate stepping, the buildings of
+    the closed gaps' groups; the others wait, taking the whole analysis step at once: ``_multirate``).
 
-    clk = (analysis step, t, output row pending); cnt = (impacts, gaps closed, their groups); ps = (the
-    scratch factor's step, a gap aimed at, stepping runs, gaps screened with stepping sides only, gaps
-    screened, stepping DOFs); fb: the free-flight blocks' state (``_flight_block``: its event hint).
-    Returns (status, t, pending, cnt, ps, energy).
+    clk = (analysis step, t, output row pending); ps = (the scratch factor's step, a gap aimed at, stepping
+    runs, gaps screened with stepping sides only, gaps screened, stepping DOFs).  Returns (wt, ps, pending),
+    wt = (some building waits, their runs, the waiting step's start).
     """
     step, t, pending = clk
     row, gaps, motion, multi, es0 = model[0], model[2], model[3], model[6], model[8]
     dt = model[4][0]
     st, lists, ev, mr, runs, ws = work[1], work[6], work[9], work[10], work[11], work[12]
-    t_end = (step + 1) * dt
-    n_wrun = _who_steps(cnt[1], lists[0], multi[0], multi[1], mr, runs)
+    n_wrun = _who_steps(m_act, lists[0], multi[0], multi[1], mr, runs)
     waiting = False
     if n_wrun > 0:
         n_wrun = _waiting_step((step, t, dt), motion, n_wrun, mr, runs, ws, _waits(model, work), row, gaps, st,
@@ -396,97 +439,46 @@ def _physical_step(clk, cnt, ps, fb, energy, model, work, outs, cat, stats):
         changed = changed or mr[5][b] != mr[6][b]
     if changed:  # (the scratch factor covers the former stepping rows only)
         ps = (-1.0, ps[1]) + _stepping(mr, runs)
-    wt = (waiting, n_wrun, t)  # some building waits, their runs, the waiting step's start
-    clk = (step, t, pending)
-    while t_end - clk[1] > 1e-9 * dt:
-        status, clk, cnt, ps, wt, energy = _substep(clk, cnt, ps, wt, fb, energy, model, work, outs, cat, stats)
-        if status != OK:
-            return status, clk[1], clk[2], cnt, ps, energy
-    if wt[0]:
-        # ---- the waiting buildings' step is accepted with the stepping ones' last
-        e_in, w_int = _commit_waiting(wt[1], mr, runs, ws, row, gaps, ev[4], st, outs[5], (ev[0], ev[1]),
-                                      energy[:2])
-        energy = (e_in, w_int, energy[2])
-    return OK, clk[1], clk[2], cnt, ps, energy
+    return (waiting, n_wrun, t), ps, pending
 
 
 @njit(cache=True, inline="always")
-def _substep(clk, cnt, ps, wt, fb, energy, model, work, outs, cat, stats):
-    """One step inside the analysis step: its size (the rest of the analysis step or the contact substep
-    grid, aimed at an event a step stopped just short of or a free-flight block located), the attempts up
-    to the first event (``_attempts``), then a join (``_join_now``) or ACCEPT / COMMIT and a SWITCH at each
-    event.  Returns (status, clk, cnt, ps, wt, energy)."""
-    step, t, pending = clk
-    n_imp, m_act, n_comp = cnt
-    h_cached, aim_gap = ps[0], ps[1]
+def _step_size(step, t, m_act, aim_gap, fb, model, work):
+    """A substep's size from t [s]: the rest of the analysis step or the contact substep grid
+    (``_contact._contact_step``), aimed at the event a step stopped just short of (aim_gap, linear in delta)
+    or at the one a free-flight block located (fb: ``_flight_block``'s event hint).
+    Returns (h [s], its grid level, the gap aimed at or -1)."""
     gaps = model[2]
-    dt, n_sub = model[4][0], model[4][4]
-    st, lists, cs, gf, ev, runs, mw = work[1], work[6], work[7], work[8], work[9], work[11], work[14]
+    dt = model[4][0]
+    lists, cs, ev, mw = work[6], work[7], work[9], work[14]
     d0, r0 = ev[0], ev[1]
-    hmin = 1e-9 * dt  # events closer than this to the step start switch in place
-    t_end = (step + 1) * dt
-    h, lev = _contact_step(t, t_end, dt, m_act, lists[0], gaps[5], cs[2], cs[3], mw[3], N_LEV, 0)
+    hmin = 1e-9 * dt
+    h, lev = _contact_step(t, (step + 1) * dt, dt, m_act, lists[0], gaps[5], cs[2], cs[3], mw[3], N_LEV, 0)
     target = -1
-    if aim_gap >= 0:
-        ga = aim_gap
-        aim_gap = -1
-        if d0[ga] * r0[ga] < 0.0:  # still approaching the crossing
-            h_aim = -d0[ga] / r0[ga]
-            if hmin <= h_aim < h:
-                h = h_aim
-                target = ga
+    if aim_gap >= 0 and d0[aim_gap] * r0[aim_gap] < 0.0:  # still approaching the crossing
+        h_aim = -d0[aim_gap] / r0[aim_gap]
+        if hmin <= h_aim < h:
+            h = h_aim
+            target = aim_gap
     if step == fb[2] and t == step * dt and fb[3] * h >= hmin:
         h = fb[3] * h  # the block's Hermite root: the physical path's first guess too
         target = fb[4]
-    status, h, target, out, h_cached, pending = _attempts((h, lev, target), (step, t, pending), cnt, ps, wt, model,
-                                                          work, outs, stats)
-    located, landed, n_tog, n_land, toggle_now, join_gap, aim = out
-    ps = (h_cached, aim) + ps[2:]
-    if status != OK:
-        return status, (step, t, pending), cnt, ps, wt, energy
-    if join_gap >= 0:
-        # ---- the waiting buildings of gap join_gap catch up to t and step from here
-        ok, ps, wt, energy = _join_now(join_gap, t, wt, energy, model, work, outs, stats)
-        return OK if ok else NEWTON_FAILED, (step, t, pending), cnt, ps, wt, energy
-    if not located:
-        return NEWTON_FAILED, (step, t, pending), cnt, ps, wt, energy
-    # (toggle_now >= 0: the events are at the current time, switched below without moving)
-    if toggle_now < 0:
-        # ---- ACCEPT / COMMIT: energy, state, peaks, contact forces
-        stats[S_STEPS] += 1
-        cm = 1.0 / (model[4][2] * h * h)
-        cc = model[4][3] / (model[4][2] * h)
-        energy = _accept(h, (cm, cc), model, work, outs, cat, (wt[0], ps[2], m_act), energy)
-        t = _advance(t, h, (t_end, dt), wt[0], ps[4], work, model[3][1])
-        if landed:
-            n_tog = _landed(target, n_land, lists[3], lists[2])
-    if n_tog > 0:
-        # ---- SWITCH: an impact's onset (the law's onset hook) or end at each gap in toggles
-        status, n_imp, m_act = _switch((lists[2], n_tog), t, n_sub, st, gaps, ev[4], gf[0], outs[6], cs, cat,
-                                       lists[0], (n_imp, m_act))
-        if status != OK:
-            return status, (step, t, pending), (n_imp, m_act, n_comp), ps, wt, energy
-        n_comp = _group_contacts(m_act, lists[0], gaps[2], gaps[3], lists[1])
-        _equilibrium(model[0], st, ev[5], gaps, gf[0], runs, ps[2])
-    return OK, (step, t, pending), (n_imp, m_act, n_comp), ps, wt, energy
+    return h, lev, target
 
 
 @njit(cache=True, inline="always")
-def _attempts(first, clk, cnt, ps, wt, model, work, outs, stats):
-    """The ATTEMPT LOOP of one step: the trial (``_trial_step``: factor, predictor, contact Newton) and the event
-    screen, redone up to the first event (a shorter step on Newton's failure, up to the event otherwise).
+def _screen_attempt(h, cc, t, target, wt, ps, model, work, stats):
+    """The EVENT SCREEN of a converged trial step of h [s] from t: does a gap open or close inside it?
 
-    first = (h [s], its grid level, the gap whose event it aims at or -1).  Returns (status, h, target,
-    (located, landed, n_tog, n_land, toggle_now, join_gap, aim_gap), the scratch factor's step, pending):
-    toggle_now >= 0 where the events are at the current time (switched without moving), join_gap >= 0
-    where a waiting building may touch a stepping one in the step (it catches up and steps), aim_gap the
-    event a located step stopped just short of (the next step is aimed at it, linear in delta, instead of
-    finding it again).
+    End states from the increments (cc = gamma/(beta h)); a gap with a waiting side moves along its own
+    step's trajectory (wt = (some building waits, their runs, the waiting step's start)); target: the gap
+    the step aims at.  Returns (outcome, theta, g_ev, landed, n): ACCEPT (no event inside; landed: the
+    target's event is at the step's end; n the gaps landed with it, in land_too), REDO (redo up to theta h,
+    the first event, at gap g_ev), AT_ONCE (the events are at t: n gaps to switch in place, in toggles) or
+    JOIN (a waiting building may touch a stepping one, at gap g_ev).
     """
-    h, lev, target = first
-    step, t, pending = clk
-    h_cached, n_ss, n_scr = ps[0], ps[3], ps[4]
     waiting, t_w0 = wt[0], wt[2]
+    n_ss, n_scr = ps[3], ps[4]
     gaps = model[2]
     dt = model[4][0]
     st, incr, cs, ev, mr, ws = work[1], work[2], work[7], work[9], work[10], work[12]
@@ -495,47 +487,74 @@ def _attempts(first, clk, cnt, ps, wt, model, work, outs, stats):
     Du, Vv = incr[0], incr[3]
     d0, r0, d_end, r_end, gk = ev[0], ev[1], ev[2], ev[3], ev[4]
     hmin = 1e-9 * dt
-    for attempt in range(200):
-        ok, converged, h, cc, h_cached, pending = _trial_step(h, lev, (step, t, pending), cnt, ps[:1] + ps[2:],
-                                                         wt[0], model, work, outs, stats)
-        if not ok:
-            return NEWTON_FAILED, h, target, (False, False, 0, 0, -1, -1, -1), h_cached, pending
-        if not converged:
-            stats[S_REJECTED] += 1
-            h *= 0.25
-            target = -1
-            if h < hmin:
-                return NEWTON_FAILED, h, target, (False, False, 0, 0, -1, -1, -1), h_cached, pending
-            continue
-        # ---- EVENT SCREEN: does a gap open or close inside the step? (end states from Du)
-        landed = False
-        if target >= 0:
-            dtg, rtg = _gap_trial(u, Du, Vv, cc, gaps[0][target], gaps[1][target], gaps[4][target], gk[GU1, target],
-                                  gk[GV1, target])
-            landed = abs(dtg) <= LAND_TOL * max(abs(rtg), abs(r0[target])) * h + 1e-15
-        if waiting:  # gaps with a waiting side: it moves along its own step's trajectory
-            _screen_waiting((t + h - t_w0) / dt, dt, cc, mr, n_ss, n_scr, gaps, (u, v, Du, Vv), ws, gk,
-                            (d_end, r_end))
-        # screen every gap (or, while some building waits, those in the list scr: the gaps with a stepping
-        # side; scr[n_ss:] have a waiting side, computed above)
-        theta, g_ev, ev_waits, n_land = _screen_step(waiting, (mr[7], n_ss, n_scr), gaps, cs[0], (u, Du, Vv, cc), h,
-                                                     gk, (d0, r0, d_end, r_end), (landed, target), land_too)
-        if ev_waits:  # a waiting building may touch a stepping one in this substep: it joins (``_join_now``)
-            stats[S_REJECTED] += 1
-            return OK, h, target, (False, landed, 0, n_land, -1, g_ev, -1), h_cached, pending
-        if g_ev < 0:
-            aim = target if target >= 0 and not landed else -1
-            return OK, h, target, (True, landed, 0, n_land, -1, -1, aim), h_cached, pending
+    landed = False
+    if target >= 0:
+        dtg, rtg = _gap_trial(u, Du, Vv, cc, gaps[0][target], gaps[1][target], gaps[4][target], gk[GU1, target],
+                              gk[GV1, target])
+        landed = abs(dtg) <= LAND_TOL * max(abs(rtg), abs(r0[target])) * h + 1e-15
+    if waiting:  # gaps with a waiting side: it moves along its own step's trajectory
+        _screen_waiting((t + h - t_w0) / dt, dt, cc, mr, n_ss, n_scr, gaps, (u, v, Du, Vv), ws, gk, (d_end, r_end))
+    # screen every gap (or, while some building waits, those in the list scr: the gaps with a stepping side;
+    # scr[n_ss:] have a waiting side, computed above)
+    theta, g_ev, ev_waits, n_land = _screen_step(waiting, (mr[7], n_ss, n_scr), gaps, cs[0], (u, Du, Vv, cc), h, gk,
+                                                 (d0, r0, d_end, r_end), (landed, target), land_too)
+    if ev_waits:  # a waiting building may touch a stepping one in this substep: it joins (``_join_now``)
         stats[S_REJECTED] += 1
-        if theta * h < hmin:
-            # every gap whose event is at the current time switches now, together (identical floors touch
-            # at once: one attempt, not one per gap)
-            n_tog = _at_once(h, hmin, (mr[7], n_ss, n_scr), gaps, cs, (d0, r0, d_end, r_end), landed, target,
-                             toggles)
-            return OK, h, target, (True, landed, n_tog, n_land, g_ev, -1, -1), h_cached, pending
-        h = theta * h
-        target = g_ev
-    return NEWTON_FAILED, h, target, (False, False, 0, 0, -1, -1, -1), h_cached, pending
+        return JOIN, theta, g_ev, landed, 0
+    if g_ev < 0:
+        return ACCEPT, theta, g_ev, landed, n_land
+    stats[S_REJECTED] += 1
+    if theta * h < hmin:
+        # every gap whose event is at the current time switches now, together (identical floors touch at
+        # once: one attempt, not one per gap)
+        n_tog = _at_once(h, hmin, (mr[7], n_ss, n_scr), gaps, cs, (d0, r0, d_end, r_end), landed, target, toggles)
+        return AT_ONCE, theta, g_ev, landed, n_tog
+    return REDO, theta, g_ev, landed, 0
+
+
+@njit(cache=True, inline="always")
+def _commit_step(h, span, aimed, waiting, m_act, ps, energy, model, work, outs, cat, stats):
+    """ACCEPT / COMMIT the trial step of h [s] (``_accept``) and move the clock on (``_advance``);
+    span = (t, the analysis step's end) [s]; aimed = (the gap aimed at, whether its event landed at the
+    step's end, the gaps landed with it).  Returns (t, energy, the gaps to switch, in toggles)."""
+    t, t_end = span
+    target, landed, n_land = aimed
+    settings = model[4]
+    lists = work[6]
+    stats[S_STEPS] += 1
+    cm = 1.0 / (settings[2] * h * h)
+    cc = settings[3] / (settings[2] * h)
+    energy = _accept(h, (cm, cc), model, work, outs, cat, (waiting, ps[2], m_act), energy)
+    t = _advance(t, h, (t_end, settings[0]), waiting, ps[4], work, model[3][1])
+    n_tog = _landed(target, n_land, lists[3], lists[2]) if landed else 0
+    return t, energy, n_tog
+
+
+@njit(cache=True, inline="always")
+def _switch_events(n_tog, t, cnt, n_run, model, work, outs, cat):
+    """SWITCH at t [s] the n_tog gaps in toggles (an impact's onset, with the law's onset hook, or its end:
+    ``_switch``), regroup the closed gaps and take the accelerations from equilibrium (the contact force may
+    jump there).  cnt = (impacts, gaps closed, their groups).  Returns (status, cnt)."""
+    row, gaps = model[0], model[2]
+    n_sub = model[4][4]
+    st, lists, cs, gf, ev, runs = work[1], work[6], work[7], work[8], work[9], work[11]
+    status, n_imp, m_act = _switch((lists[2], n_tog), t, n_sub, st, gaps, ev[4], gf[0], outs[6], cs, cat, lists[0],
+                                   (cnt[0], cnt[1]))
+    if status != OK:
+        return status, (n_imp, m_act, cnt[2])
+    n_comp = _group_contacts(m_act, lists[0], gaps[2], gaps[3], lists[1])
+    _equilibrium(row, st, ev[5], gaps, gf[0], runs, n_run)
+    return OK, (n_imp, m_act, n_comp)
+
+
+@njit(cache=True, inline="always")
+def _end_step(n_wrun, energy, model, work, outs):
+    """The waiting buildings' step (n_wrun runs) accepted with the stepping ones' last (``_commit_waiting``).
+    Returns energy."""
+    row, gaps = model[0], model[2]
+    st, ev, mr, runs, ws = work[1], work[9], work[10], work[11], work[12]
+    e_in, w_int = _commit_waiting(n_wrun, mr, runs, ws, row, gaps, ev[4], st, outs[5], (ev[0], ev[1]), energy[:2])
+    return e_in, w_int, energy[2]
 
 
 @njit(cache=True, inline="always")

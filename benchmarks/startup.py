@@ -14,6 +14,13 @@ driver's kernel (``pipeline_times`` in the compile's metadata: type inference, S
 reconstruction, lowering, ...; a pass's time includes the compiles of the functions it reaches
 first) and LLVM's own total (``NUMBA_LLVM_PASS_TIMINGS``), and the compile events of the
 functions it compiled (``numba.core.event``), by exclusive time.
+
+``--inlines``: what numba's inlining of the ``inline="always"`` helpers costs.  numba copies an
+inlined function's IR at each call site (``InlineWorker.inline_ir``), everything already inlined
+into it included; this wraps that method to time each copy, and prints, for the first ``simulate``
+of each model in a child process with an empty cache, the wall time, the copies' total and the
+largest copies with the function's blocks and variables (its scope, which each block's copy takes
+along).
 """
 
 from __future__ import annotations
@@ -74,6 +81,35 @@ for model, kernel in (("models/two_buildings.toml", _kernel.integrate_kernel),
 """
 
 
+INLINES = """
+import collections, time, warnings
+warnings.simplefilter("ignore")
+from numba.core import inline_closurecall as icc
+copies = collections.defaultdict(lambda: [0, 0.0, 0, 0])
+inline_ir = icc.InlineWorker.inline_ir
+def timed(self, caller_ir, block, i, callee_ir, *args, **kwargs):
+    t0 = time.perf_counter()
+    out = inline_ir(self, caller_ir, block, i, callee_ir, *args, **kwargs)
+    c = copies[(callee_ir.func_id.func_qualname, caller_ir.func_id.func_qualname)]
+    c[0] += 1
+    c[1] += time.perf_counter() - t0
+    c[2] = len(callee_ir.blocks)
+    c[3] = len(next(iter(callee_ir.blocks.values())).scope.localvars._con)
+    return out
+icc.InlineWorker.inline_ir = timed
+import seispound as sp
+for model in ("models/two_buildings.toml", "models/yielding_pair.toml"):
+    copies.clear()
+    t0 = time.perf_counter()
+    sp.simulate(sp.load_model(model))
+    wall = time.perf_counter() - t0
+    print(f"{model}: first simulate {wall:.1f} s, of which inlined copies {sum(c[1] for c in copies.values()):.1f} s",
+          flush=True)
+    for (name, caller), (k, sec, nb, nv) in sorted(copies.items(), key=lambda kv: -kv[1][1])[:5]:
+        print(f"  {sec:6.2f} s  {name} into {caller} (x{k}; {nb} blocks, {nv} variables)", flush=True)
+"""
+
+
 def _run(cmd, env, cwd):
     t0 = time.perf_counter()
     p = subprocess.run(cmd, env=env, cwd=cwd, capture_output=True, text=True)
@@ -83,13 +119,15 @@ def _run(cmd, env, cwd):
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--passes", action="store_true", help="where each driver's cold compile goes")
+    ap.add_argument("--inlines", action="store_true", help="what numba's copies of inlined functions cost")
     args = ap.parse_args(argv)
     exe = Path(sys.executable).with_name("seispound")
     with tempfile.TemporaryDirectory() as tmp:
         env = dict(os.environ, NUMBA_CACHE_DIR=str(Path(tmp) / "cache"), PYTHONPATH=str(REPO))
-        if args.passes:
-            env["NUMBA_LLVM_PASS_TIMINGS"] = "1"
-            wall, p = _run([sys.executable, "-c", PASSES], env, REPO)
+        if args.passes or args.inlines:
+            if args.passes:
+                env["NUMBA_LLVM_PASS_TIMINGS"] = "1"
+            wall, p = _run([sys.executable, "-c", PASSES if args.passes else INLINES], env, REPO)
             print(p.stdout, end="")
             if p.returncode:
                 print(p.stderr[-2000:])

@@ -2,7 +2,7 @@
 
 Run on two processes (``pytest -n 2``, README command 2), each worker would compile both of the
 integrator's drivers into numba's cache on first use, at the same moment as the other (each
-2-6 min on this machine). Instead, before its first test, the first worker compiles the fast
+1-4 min on this machine). Instead, before its first test, the first worker compiles the fast
 driver and the second the general one, each on a ten-step run of a bundled model, so that each
 finds the other's machine code in the cache when its tests reach it. A plain ``pytest`` (no
 workers) compiles on first use as before.

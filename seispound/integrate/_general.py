@@ -121,7 +121,7 @@ def general_kernel(linear, p, numbering, elements, state0, motion, init, setting
     says so) an analysis step is one map per building (``transition.py``: exact, or the same Newmark
     substeps composed), screened for gap events and for bilinear storeys leaving their elastic
     range, the Bouc-Wen storeys' terms iterated within it (``_general_flight``); on False, or when
-    the screen finds an event, the step is taken on the physical path (``_physical_step``).
+    the screen finds an event, the step is taken on the physical path (the kernel's substep and attempt loops).
     """
     # arguments: alive for the whole call, so borrowed (``_borrow``: no reference counting in the loop)
     linear, numbering, elements, motion, init, opts, outs, cat = borrow_all(

@@ -141,7 +141,7 @@ def _exact_coefficients(basis, dt):
 
 
 # rough compile time of each driver on a first use (``python -m benchmarks.startup``): said before it starts
-COMPILE_SECONDS = {"fast": "2-4 min", "general": "4-6 min"}  # cold first runs, as the machine's load varies
+COMPILE_SECONDS = {"fast": "1-3 min", "general": "2-4 min"}  # cold first runs, as the machine's load varies
 _ANNOUNCED: set = set()
 
 

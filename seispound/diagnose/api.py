@@ -1110,7 +1110,11 @@ def _verdict(ne, noise_ne, left_out, kept_as_given, fault, mismatch, wrong=()) -
 def _interval(q) -> str:
     if q.get("stderr") is None:
         return f"{q['value']:.4g} {q['units']} (not identified: {q.get('reason', 'the data do not constrain it')})"
-    return f"{q['value']:.4g} +- {q['stderr']:.2g} {q['units']} (one standard error)"
+    half, dof = q.get("half68", q["stderr"]), q.get("dof", math.inf)
+    if not math.isfinite(dof):
+        return f"{q['value']:.4g} +- {q['stderr']:.2g} {q['units']} (one standard error)"
+    return (f"{q['value']:.4g} +- {half:.2g} {q['units']} (68 % interval; standard error {q['stderr']:.2g}, "
+            f"{dof:.1f} degrees of freedom)")
 
 
 def _rss(fit) -> float:

@@ -2,7 +2,8 @@
 
 Each quantity is a function of the fitted parameters; its standard error comes from the fit's
 covariance (the calibration's sandwich, ``calibrate.fit``) by the delta method, with central
-differences of the function (sigma_q^2 = g^T C g, g = dq/dx).  A quantity whose parameters
+differences of the function (sigma_q^2 = g^T C g, g = dq/dx), and its 68 % interval from Student's t
+with the effective degrees of freedom of that variance in the direction g (``CalibrationResult.dof``).  A quantity whose parameters
 sit at a bound of the fit, or whose standard error is zero, not finite or over half its value
 (a 95 % interval that would reach zero), is reported as not identified, with the reason, never
 with a standard error of zero.  A quantity marked ``defining`` is what the physics adds to the base
@@ -33,6 +34,8 @@ import math
 import tomllib
 
 import numpy as np
+
+from ..calibrate.fit import interval68
 
 __all__ = ["quantities", "flexible_base_period"]
 
@@ -127,7 +130,12 @@ def _delta_method(fit, name, units, fn, paths, rel) -> dict:
     if sd > UNDETERMINED * abs(value):
         return {"name": name, "value": value, "stderr": None, "units": units,
                 "reason": f"the data do not determine it (standard error {sd:.2g} {units}, over half its value)"}
-    return {"name": name, "value": value, "stderr": sd, "units": units}
+    full = np.zeros(len(fit.parameters))
+    names = list(fit.parameters)
+    for p, gp in zip(paths, g):
+        full[names.index(p)] = gp
+    dof = fit.dof(full) if hasattr(fit, "dof") else math.inf  # (a fit's summary without its bins: +- sigma)
+    return {"name": name, "value": value, "stderr": sd, "units": units, "dof": dof, "half68": interval68(sd, dof)}
 
 
 def _buildings(data):

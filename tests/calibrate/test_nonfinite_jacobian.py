@@ -15,8 +15,8 @@ def test_a_nonfinite_jacobian_gives_unknown_errors_not_an_exception():
     J = rng.standard_normal((50, 3))
     J[7, 1] = np.nan
     res = SimpleNamespace(fun=rng.standard_normal(50), jac=J)
-    cov, n, n_eff = F._covariance(res, [{"a": np.zeros(50)}])
-    assert n == 50 and n_eff == 50.0 and np.all(np.isinf(cov))
+    cov, n, n_eff, bins = F._covariance(res, [{"a": np.zeros(50)}])
+    assert n == 50 and n_eff == 50.0 and np.all(np.isinf(cov)) and bins is None
     why = F._not_identified(J, ["x", "y", "z"], SimpleNamespace(impact_times=[]))
     assert set(why) == {"x", "y", "z"} and all("blows up" in w for w in why.values())
 
@@ -25,8 +25,8 @@ def test_a_finite_jacobian_keeps_its_sandwich():
     rng = np.random.default_rng(2)
     J = rng.standard_normal((200, 2))
     res = SimpleNamespace(fun=rng.standard_normal(200), jac=J)
-    cov, n, n_eff = F._covariance(res, [{"a": np.zeros(200)}])
-    assert np.all(np.isfinite(cov)) and 3.0 <= n_eff <= 200.0
+    cov, n, n_eff, bins = F._covariance(res, [{"a": np.zeros(200)}])
+    assert np.all(np.isfinite(cov)) and 3.0 <= n_eff <= 200.0 and bins.shape == (101, 2, 2)
 
 
 def test_a_polish_that_cannot_run_is_reported_not_raised(monkeypatch):

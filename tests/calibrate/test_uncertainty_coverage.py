@@ -1,4 +1,4 @@
-"""Monte Carlo check of calibration's standard errors with coloured model error on white noise.
+"""Monte Carlo check of calibration's 68 % intervals with coloured model error on white noise.
 
 Kind: statistical verification (a Monte Carlo against the known truth, not the package against
 itself).  A three-storey building (T1 = 0.45 s, f1 = 2.24 Hz, f2 = 6.28 Hz) is simulated at known
@@ -6,11 +6,14 @@ storey stiffness and damping ratio; each repetition adds to its three floor acce
 error (white noise through a resonant filter of quality factor 8, ``scipy.signal.iirpeak``, shared
 by the floors with a floor-dependent gain, plus an independent part per floor) and 1 % white
 sensor noise, then fits both parameters with ``calibrate_observer``.  The reported 68 % interval
-(one standard error) must cover the truth in 60-76 % of the 200 repetitions; with the AR(1)
-effective sample size it replaced, the same draws gave 28-31 % (error at the first mode) and
-99 % (error between the modes).  The error's centre frequency is the case: between the first two
-modes, just below the first, and on the first mode (the hardest: the fitted stiffness absorbs
-part of the error, measured 56-64 %; asserted above 50 %).
+(value +- half68: Student's t with the sandwich variance's Satterthwaite degrees of freedom, 3-6
+here) must cover the truth in 60-76 % of the 200 repetitions, with the model error centred between
+the first two modes, just below the first, and on the first (the hardest: the fitted stiffness
+absorbs part of the error).  Measured on these seeds: 68.0 / 76.0 %, 71.0 / 72.5 % and 67.5 / 61.0 %
+(stiffness / damping ratio); +- one standard error gave 65.5 / 71.5, 63.5 / 67.0 and 60.0 / 54.5 %,
+and the AR(1) effective sample size before it 99-100, 55-60 and 28-31 %.  On 400 further seeds
+(200-599, run once after the method was fixed): 76.5 / 77.0, 72.0 / 76.3 and 68.5 / 63.8 %
+(docs/diagnose.md).
 """
 
 import numpy as np
@@ -73,7 +76,7 @@ def _coverage(f0, amplitude):
             rec[c.id] = clean[c.id] + error + 0.01 * s * rng.standard_normal(N)
         obs = Observer(data, REPO, chans, [Trial(Recording(DT, rec, []))])
         res = F.calibrate_observer(obs, params, progress=False, tolerance=1e-10)
-        z.append([(res.parameters[p]["value"] - TRUTH[p]) / res.parameters[p]["stderr"] for p in TRUTH])
+        z.append([(res.parameters[p]["value"] - TRUTH[p]) / res.parameters[p]["half68"] for p in TRUTH])
         sd.append([res.parameters[p]["value"] for p in TRUTH])
     cover = np.mean(np.abs(np.array(z)) <= 1.0, axis=0)
     print(f"MEASURED f0 {f0} Hz: coverage of the 68 % interval {cover}, spread / median reported error "
@@ -81,12 +84,7 @@ def _coverage(f0, amplitude):
     return cover
 
 
-@pytest.mark.parametrize("f0, amplitude", [(3.5, 0.3), (2.0, 0.2)])
+@pytest.mark.parametrize("f0, amplitude", [(3.5, 0.3), (2.0, 0.2), (2.24, 0.1)])
 def test_interval_covers_the_truth_at_its_nominal_rate(f0, amplitude):
     cover = _coverage(f0, amplitude)
     assert np.all((cover >= 0.60) & (cover <= 0.76)), cover
-
-
-def test_error_on_the_first_mode_is_covered_more_than_half_the_time():
-    cover = _coverage(2.24, 0.1)
-    assert np.all(cover >= 0.50), cover

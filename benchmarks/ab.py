@@ -15,7 +15,8 @@ Both sides compile afresh, into a temporary numba cache: code loaded from numba'
 another speed than the same code compiled in the process (the general driver's kernel about 15 %
 slower on ``models/yielding_pair.toml``, the fast driver's not measurably; docs/performance.md), so
 a REF compiled afresh against a working tree loaded from its cache would time the cache, not the
-change.
+change.  ``--cache DIR`` keeps both sides' cache (and REF's export) in DIR: run twice, and the
+second run times both as loaded from the cache, the path a user takes.
 """
 
 from __future__ import annotations
@@ -84,12 +85,18 @@ def main(argv=None) -> int:
                     help="statistic of the repeats (min: the least disturbed run, for a busy machine)")
     ap.add_argument("--scheme", choices=("exact", "newmark"),
                     help="integration scheme of both sides (REF's only if it has schemes; default: each default)")
+    ap.add_argument("--cache", metavar="DIR",
+                    help="keep REF's export and both sides' numba cache in DIR: a second run with the same DIR times "
+                         "both sides as loaded from numba's cache, as a user runs them")
     args = ap.parse_args(argv)
     if "numba" in sys.modules:
         raise SystemExit("benchmarks.ab: run it in a fresh process (numba must read NUMBA_CACHE_DIR first)")
-    with tempfile.TemporaryDirectory() as tmp:
-        os.environ["NUMBA_CACHE_DIR"] = str(Path(tmp) / "numba-cache")  # both sides compile afresh
-        export_reference(args.ref, Path(tmp))
+    with tempfile.TemporaryDirectory() as scratch:
+        tmp = args.cache or scratch
+        Path(tmp).mkdir(parents=True, exist_ok=True)
+        os.environ["NUMBA_CACHE_DIR"] = str(Path(tmp) / "numba-cache")  # both sides compile afresh (or cached)
+        if not (args.cache and (Path(tmp) / "seispound_ref").is_dir()):
+            export_reference(args.ref, Path(tmp))
         sys.path.insert(0, tmp)
         ref = importlib.import_module("seispound_ref")
         new = importlib.import_module("seispound")

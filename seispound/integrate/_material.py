@@ -300,7 +300,7 @@ def bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
     return zm, z, eps, pm, bouc_wen_slope(par, q, z, eps, last)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # inlined: per storey and output step (``_elements.kinetic_energy``)
 def material_energy(code, par, state, q, delta):
     """Recoverable energy [J] of a storey law in ``state`` at deformation ``delta`` [m] (0 for contact laws).
 

@@ -33,7 +33,7 @@ def _hermite(s, d0, r0, d1, r1, h):
             + (-2 * s3 + 3 * s2) * d1 + (s3 - s2) * h * r1)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # inlined: per gap and step; as a call it cost the fast driver 9-13 %
 def _event_in_step(d0, r0, d1, r1, h, closing, tol):
     """Fraction in (0, 1] of a gap's first event inside a step, or 2.0 if none.
 

@@ -420,16 +420,7 @@ def _dof_bins(J, r, channels, H):
     working model of Satterthwaite's degrees of freedom, module docstring)."""
     from scipy.ndimage import uniform_filter1d
 
-    n = r.size // channels
-    p = J.shape[1]
-    JF = np.fft.rfft(J.reshape(channels, n, p), axis=1)  # (channels, bins, p)
-    RF = np.fft.rfft(r.reshape(channels, n), axis=1)
-    w = np.full(RF.shape[1], 2.0)
-    w[0] = 1.0
-    if n % 2 == 0:
-        w[-1] = 1.0
-    h = np.real(np.einsum("cfp,pq,cfq->cf", JF.conj(), H, JF)) * w / n
-    RF = RF / (1.0 - np.clip(h, 0.0, 0.9))
+    JF, RF, w = _hc3_spectra(J, r, channels, H, r.size // channels)
     S = np.einsum("cf,df->fcd", RF, RF.conj())
     S = uniform_filter1d(S.real, DANIELL, axis=0) + 1j * uniform_filter1d(S.imag, DANIELL, axis=0)
     B = np.einsum("cfp,pq->fcq", JF, H)  # J(f) H per channel
@@ -442,16 +433,26 @@ def _trial_meat(J, r, channels, H):
     J: (channels * N, p), r: (channels * N,), H = (J^T J)^-1 of the whole fit (p, p).
     """
     n = r.size // channels
-    p = J.shape[1]
     nfft = 2 * n  # zero-padded: the sample autocovariance at every lag, none wrapped round
-    JF = np.fft.rfft(J.reshape(channels, n, p), nfft, axis=1)  # (channels, bins, p)
-    RF = np.fft.rfft(r.reshape(channels, n), nfft, axis=1)
-    w = np.full(RF.shape[1], 2.0)  # the one-sided spectrum counts every bin but 0 and Nyquist twice
-    w[0] = w[-1] = 1.0
-    h = np.real(np.einsum("cfp,pq,cfq->cf", JF.conj(), H, JF)) * w / n  # leverage of each bin of width 1/T
-    RF = RF / (1.0 - np.clip(h, 0.0, 0.9))
+    JF, RF, w = _hc3_spectra(J, r, channels, H, nfft)
     Z = np.einsum("cfp,cf->fp", JF.conj(), RF)
     return np.real(np.einsum("f,fp,fq->pq", w, Z, Z.conj())) / (nfft * n)
+
+
+def _hc3_spectra(J, r, channels, H, nfft):
+    """One trial's one-sided spectra over nfft points: (J(f) (channels, bins, p), the residual's R(f) divided by
+    one minus its bin's leverage (HC3; module docstring) (channels, bins), the bins' weights w (bins,): 2, but 1
+    at 0 and Nyquist)."""
+    n = r.size // channels
+    p = J.shape[1]
+    JF = np.fft.rfft(J.reshape(channels, n, p), nfft, axis=1)
+    RF = np.fft.rfft(r.reshape(channels, n), nfft, axis=1)
+    w = np.full(RF.shape[1], 2.0)  # the one-sided spectrum counts every bin but 0 and Nyquist twice
+    w[0] = 1.0
+    if nfft % 2 == 0:
+        w[-1] = 1.0
+    h = np.real(np.einsum("cfp,pq,cfq->cf", JF.conj(), H, JF)) * w / n  # leverage of each bin of width 1/T
+    return JF, RF / (1.0 - np.clip(h, 0.0, 0.9)), w
 
 
 def _calibrated_text(observer, params, base_values, xs, write_base) -> str:

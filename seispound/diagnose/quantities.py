@@ -3,9 +3,9 @@
 Each quantity is a function of the fitted parameters; its standard error comes from the fit's
 covariance (the calibration's sandwich, ``calibrate.fit``) by the delta method, with central
 differences of the function (sigma_q^2 = g^T C g, g = dq/dx), and its 68 % interval from Student's t
-with the effective degrees of freedom of that variance in the direction g (``CalibrationResult.dof``).  A quantity whose parameters
-sit at a bound of the fit, or whose standard error is zero, not finite or over half its value
-(a 95 % interval that would reach zero), is reported as not identified, with the reason, never
+with the effective degrees of freedom of that variance in the direction g (``CalibrationResult.dof``).
+A quantity whose parameters sit at a bound of the fit, or whose standard error is zero, not finite or
+over half its value (a 95 % interval that would reach zero), is reported as not identified, with the reason, never
 with a standard error of zero.  A quantity marked ``defining`` is what the physics adds to the base
 model (its departure from the null point, where the base model cannot reach): the change of e with
 the impact velocity, a foundation's lengthening of the first-mode period, a floor's axial frequency
@@ -134,7 +134,7 @@ def _delta_method(fit, name, units, fn, paths, rel) -> dict:
     names = list(fit.parameters)
     for p, gp in zip(paths, g):
         full[names.index(p)] = gp
-    dof = fit.dof(full) if hasattr(fit, "dof") else math.inf  # (a fit's summary without its bins: +- sigma)
+    dof = fit.dof(full)
     return {"name": name, "value": value, "stderr": sd, "units": units, "dof": dof, "half68": interval68(sd, dof)}
 
 

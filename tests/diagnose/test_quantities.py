@@ -110,7 +110,8 @@ def test_a_named_physics_whose_defining_quantity_is_unidentified_carries_a_cavea
                       'max = 0.99 }\n')
     prev = SimpleNamespace(name=None, fit=SimpleNamespace(ne_mean_after=0.02))
     step = SimpleNamespace(name="velocity-dependent-restitution", prev=prev, fit=SimpleNamespace(
-        ne_mean_after=0.011, parameters=fit.parameters, correlation=fit.correlation, model_text=fit.model_text),
+        ne_mean_after=0.011, parameters=fit.parameters, correlation=fit.correlation, model_text=fit.model_text,
+        dof=fit.dof),
         gain=0.45, bic=-10.0, probability=0.9)
     prev.bic = 20.0
     item = _left_out([step], prev.fit, 1000.0, {})[0]

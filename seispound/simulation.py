@@ -324,6 +324,8 @@ def prepare_ground_motions(model) -> GroundMotions:
             continue
         key = f"building.{b.name}.ground_motion"
         base, bprov = (ag, prov) if m.record is None else _prepare_record(m.record, model, key)
+        if m.record is not None and m.weight < 1.0:  # a share of the building's own record, the rest the row's
+            base = m.weight * base + (1.0 - m.weight) * ag
         own = bprov.get("dt_original") if isinstance(bprov, dict) else None  # the record's step: its arrival
         samples, steps = variant(base, model.analysis.dt, m.delay, m.lowpass, m.lowpass_order, key=key,
                                  rise=float(own) if own else 0.0)
@@ -333,7 +335,8 @@ def prepare_ground_motions(model) -> GroundMotions:
         else:
             rows.append(samples)
             row_of.append(len(rows) - 1)
-        per_building.append({"record": bprov if m.record is not None else "the row's record", "delay_s": m.delay,
+        per_building.append({"record": bprov if m.record is not None else "the row's record",
+                             "weight": m.weight if m.record is not None else 0.0, "delay_s": m.delay,
                              "lowpass_hz": m.lowpass, "lowpass_order": m.lowpass_order, "steps": steps})
     return GroundMotions(np.vstack(rows), np.asarray(row_of, np.int64), prov, per_building)
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -24,11 +24,14 @@ class Recording:
         trace id -> samples (npts,), SI units (the channel map's units converted).
     sources : list of str
         The files read.
+    files : dict
+        trace id -> the file it was read from.
     """
 
     dt: float
     data: dict
     sources: list
+    files: dict = field(default_factory=dict)
 
     @property
     def npts(self) -> int:
@@ -85,4 +88,5 @@ def read_recording(paths, channels) -> Recording:
         data[ch.id] = x
     if ref[2] < 2:
         raise InputError("fewer than 2 samples", file=where[ref[3]], key=ref[3])
-    return Recording(dt=float(ref[0]), data=data, sources=[os.fspath(p) for p in paths])
+    return Recording(dt=float(ref[0]), data=data, sources=[os.fspath(p) for p in paths],
+                     files={cid: os.path.abspath(where[cid]) for cid in data})

@@ -365,6 +365,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
         raise InputError(f"unknown hypothesis {unknown[0]!r}; one of: {', '.join(HYPOTHESES)}", key="hypotheses")
     jobs = (os.cpu_count() or 1) if jobs is None else int(jobs)
     model, chans, trial_list = load_inputs(model, recordings, channels, trials)
+    context = _context(chans, trial_list)
     chans = [c for c in chans if not (c.quantity == "acceleration" and c.floor == 0)]  # the input, not a response
     base_data = tomllib.loads(model.text)
     # every fit's contact substeps as given, else 32 (what the numerics check below doubles)
@@ -463,7 +464,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
         recal_values = {p.path: get_value(recal, p.path) for p in base_params}
         # a list: judged here, and read again by the instrument-fault test ("under every hypothesis fitted")
         outcomes = list(_fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, base_fit.ne_mean_after,
-                                 joint=joint, alt=recal_values, say=say, n_eff=n_eff))
+                                 joint=joint, alt=recal_values, say=say, n_eff=n_eff, context=context))
         offset = len(joint)
     ref = _Step(None, base_fit, bic_base, len(base_params))
     accepted, entries = _judge(outcomes, ref, n, n_eff, say, offset=offset)
@@ -487,7 +488,8 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
             second = tomllib.loads(first_step.fit.model_text)
             fitted = [f"{q}={v['lo']!r}:{v['hi']!r}" for q, v in first_step.fit.parameters.items()]
             more, entries = _judge(_fit_all(rest, second, base, chans, trial_list, max_evaluations, jobs,
-                                            first_step.fit.ne_mean_after, joint=fitted, say=say, n_eff=n_eff),
+                                            first_step.fit.ne_mean_after, joint=fitted, say=say, n_eff=n_eff,
+                                            context=context),
                                    first_step, n, n_eff,
                                    say, offset=max(first_step.p, len(fitted)))
             for name, entry in entries.items():
@@ -558,7 +560,7 @@ STEP = 1e-3  # finite-difference step, a fraction of each parameter's (log-)rang
 
 
 def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_base, joint=(), alt=None,
-             say=lambda msg: None, n_eff=None):
+             say=lambda msg: None, n_eff=None, context=None):
     """Yield (name, (fit, number of the hypothesis's own parameters, whether it was polished) or an error
     string) per hypothesis, fitted in parallel processes.
 
@@ -574,6 +576,7 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
     form that can still win.  A hypothesis keeps its best-fitting form; an alternative (wrong parameters)
     keeps its form with the best information criterion at the effective sample size ``n_eff``, where
     given.  ``say`` reports each task as it ends (progress through the longest phase of a diagnosis).
+    ``context`` (:class:`~seispound.diagnose.hypotheses.Context`) goes to the forms that read the recording.
     """
     import heapq
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -622,7 +625,7 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
         run(("polish", form), _polish, texts, specs, both, *common, budget, alternative, with_anchor)
     try:
         for form in forms:
-            run(("starts", form), _starts, *form, data, alt, *common)
+            run(("starts", form), _starts, *form, data, alt, *common, context)
         while pending:
             done = wait(pending, return_when=FIRST_COMPLETED).done if pool else list(pending)
             for fut in done:
@@ -715,7 +718,7 @@ class _Done:
         return self.value
 
 
-def _starts(name, variant, data, alt, base, chans, trial_list):
+def _starts(name, variant, data, alt, base, chans, trial_list, context=None):
     """One form of a hypothesis added to ``data``: (the augmented table, its fit specs, its starts: the null
     point, then the best points across its bounds by ``_best_candidates`` and its anchored start if any; the
     anchored starts alone), or an error string.  With ``alt``
@@ -724,7 +727,7 @@ def _starts(name, variant, data, alt, base, chans, trial_list):
     from ..model.paths import get_value
 
     try:
-        aug, specs, null = CANDIDATES_ALL[name].augment(data, variant)
+        aug, specs, null = CANDIDATES_ALL[name].augment(data, variant, context)
         bases = [{}]
         if alt:
             own = [s.partition("=")[0] for s in specs]
@@ -738,6 +741,22 @@ def _starts(name, variant, data, alt, base, chans, trial_list):
 
 
 DUCTILITIES = (2.0, 4.0)  # the yield drifts a yielding form's scan also tries: the elastic peak over these
+
+
+def _context(chans, trial_list):
+    """The :class:`~seispound.diagnose.hypotheses.Context` of one recording: each building's base acceleration
+    channel (the first mapped at floor 0 that is not the model's own input, which ``diagnose`` never fits).
+    Several trials each have their own recording, so they give none."""
+    from .hypotheses import Context
+
+    if len(trial_list) != 1 or trial_list[0].model_data is not None:
+        return Context()
+    files = trial_list[0].recording.files
+    out = {}
+    for c in chans:
+        if c.quantity == "acceleration" and c.floor == 0 and c.gap is None and c.factor > 0 and c.id in files:
+            out.setdefault(c.building, {"file": files[c.id], "trace": c.id, "scale": float(c.factor)})
+    return Context(base_records=out)
 
 
 def _yield_anchors(data, specs, nulls, base, trial_list) -> list[tuple[int, dict]]:
@@ -1131,7 +1150,7 @@ def _rebased(text, base, folder):
     tables = [data.get("ground_motion", {})] + [b.get("ground_motion", {}) for b in data.get("building", [])
                                                 if isinstance(b.get("ground_motion"), dict)]
     for t in tables:
-        if isinstance(t, dict) and isinstance(t.get("file"), str) and not os.path.isabs(t["file"]):
+        if isinstance(t, dict) and isinstance(t.get("file"), str):  # (a base channel's recording is absolute)
             t["file"] = os.path.relpath(os.path.abspath(os.path.join(base, t["file"])), folder)
     return tomli_w.dumps(data)
 

@@ -25,7 +25,8 @@ Quantities (units in each entry):
   exponent);
 * velocity-dependent-restitution: e at impact velocities of 0.1 and 0.5 m/s, and the change of e
   between them (the velocity dependence itself, marked ``defining``);
-* spatially-varying-input: each building's delay (and low-pass corner).
+* spatially-varying-input: each building's delay (and low-pass corner), or the share of the motion recorded
+  at its base that drives it.
 """
 
 from __future__ import annotations
@@ -259,8 +260,11 @@ def _restitution(fit, data):
 def _delays(fit, data):
     out = [_delta(fit, f"{p.split('.')[1]}: delay of its ground motion", "s", lambda x, p=p: x[p], [p], defining=True)
            for p in fit.parameters if p.endswith("ground_motion.delay")]
-    return out + [_delta(fit, f"{p.split('.')[1]}: low-pass corner of its ground motion", "Hz", lambda x, p=p: x[p],
-                         [p], defining=True) for p in fit.parameters if p.endswith("ground_motion.lowpass")]
+    out += [_delta(fit, f"{p.split('.')[1]}: low-pass corner of its ground motion", "Hz", lambda x, p=p: x[p],
+                   [p], defining=True) for p in fit.parameters if p.endswith("ground_motion.lowpass")]
+    return out + [_delta(fit, f"{p.split('.')[1]}: share of the motion recorded at its base", "-",
+                         lambda x, p=p: x[p], [p], defining=True) for p in fit.parameters
+                  if p.endswith("ground_motion.weight")]
 
 
 _QUANTITIES = {"soil-structure-interaction": _soil, "distributed-mass": _rods, "inelastic-storey": _yielding,

@@ -104,6 +104,11 @@ class BuildingMotion:
     record : GroundMotionSpec, optional
         A record of the building's own instead of the row's (then delayed and
         low-passed as above, if asked).
+    weight : float
+        With ``record``: its share w of the building's motion, the rest the row's
+        record, w a_own + (1 - w) a_row [-], 0 <= w <= 1 (default 1: the own record
+        alone).  ``diagnose`` fits w from 0, where the building is driven by the row's
+        record, to drive it by the acceleration recorded at its base.
 
     See :mod:`seispound.motion.spatial`.
     """
@@ -112,6 +117,7 @@ class BuildingMotion:
     lowpass: float | None = None
     lowpass_order: int = 2
     record: GroundMotionSpec | None = None
+    weight: float = 1.0
 
     def validate(self, key: str) -> None:
         if not _finite(self.delay):
@@ -123,6 +129,9 @@ class BuildingMotion:
             raise InputError(f"must be an integer 1..8, got {order!r}", key=f"{key}.lowpass_order")
         if self.record is not None and not isinstance(self.record, GroundMotionSpec):
             raise InputError("must be a GroundMotionSpec", key=f"{key}.file")
+        if not _finite(self.weight) or not 0.0 <= self.weight <= 1.0:
+            raise InputError(f"must be a share 0..1 of the building's own record, got {self.weight!r}",
+                             key=f"{key}.weight")
 
     @property
     def is_identity(self) -> bool:

@@ -40,7 +40,7 @@ _SOIL_REQUIRED = {"shear_wave_velocity", "density", "poisson"}
 _FOOTING = {"width", "length", "radius"}
 _STOREY_LAW = {"kind", "yield_drift", "yield_force", "post_yield_ratio", "n", "beta", "gamma", "strength_degradation",
                "stiffness_degradation", "pinching", "pinching_rate", "pinching_width"}
-_VARIANT = {"delay", "lowpass", "lowpass_order"}
+_VARIANT = {"delay", "lowpass", "lowpass_order", "weight"}
 _DAMPING = {"kind", "ratio", "modes"}
 _LAW_KEYS = {"law", "stiffness", "restitution", "tension", "damping_constant", "exponent"}
 _GAP = {"between", "size", "levels"} | _LAW_KEYS
@@ -295,17 +295,19 @@ def _record_spec(g: dict, key: str, base) -> GroundMotionSpec:
 
 
 def _building_motion(g, key: str, base) -> BuildingMotion:
-    """``[[building]] ground_motion = { delay, lowpass, lowpass_order }``, optionally with a record of its own."""
+    """``[[building]] ground_motion = { delay, lowpass, lowpass_order }``, optionally with a record of its own
+    (``file`` and the record keys, and ``weight``: its share of the building's motion)."""
     if not isinstance(g, dict):
         raise InputError("must be a table { delay, lowpass, lowpass_order } or a record { file, units, ... }",
                          key=key)
     _check_keys(g, _GROUND | _VARIANT, key)
     record = _record_spec(g, key, base) if "file" in g else None
-    if record is None and set(g) & (_GROUND - {"file"}):
-        raise InputError(f"{', '.join(sorted(set(g) & _GROUND))} describe a record of the building's own, which "
+    own = set(g) & ((_GROUND - {"file"}) | {"weight"})
+    if record is None and own:
+        raise InputError(f"{', '.join(sorted(own))} describe a record of the building's own, which "
                          "needs a file", key=f"{key}.file")
     motion = BuildingMotion(delay=g.get("delay", 0.0), lowpass=g.get("lowpass"),
-                            lowpass_order=g.get("lowpass_order", 2), record=record)
+                            lowpass_order=g.get("lowpass_order", 2), record=record, weight=g.get("weight", 1.0))
     motion.validate(key)
     return motion
 

@@ -13,12 +13,14 @@ import tomllib
 import pytest
 
 from seispound.calibrate.fit import parse_fit
-from seispound.diagnose.hypotheses import REGISTRY
+from seispound.diagnose.hypotheses import REGISTRY, Context
 from seispound.model.paths import set_value
 from tests._models import REPO
 
 HYPOTHESES = {h.name: h for h in REGISTRY}
 FORMS = [(h.name, k) for h in REGISTRY for k in range(h.variants)]
+# a recording with building B's base acceleration (the file is not read: a form only writes the model table)
+CONTEXT = Context(base_records={"B": {"file": "/data/recording.mseed", "trace": "XX.B.00.HNX", "scale": 1.0}})
 
 
 def _tables():
@@ -32,7 +34,7 @@ def _tables():
 @pytest.mark.parametrize("name,k", FORMS, ids=[f"{n}-{k + 1}" for n, k in FORMS])
 @pytest.mark.parametrize("which", list(_tables()))
 def test_a_forms_null_point_lies_inside_its_bounds(name, k, which):
-    aug, specs, null = HYPOTHESES[name].augment(_tables()[which], k)
+    aug, specs, null = HYPOTHESES[name].augment(_tables()[which], k, CONTEXT)
     table = copy.deepcopy(aug)
     for path, value in null.items():
         set_value(table, path, value)
@@ -53,3 +55,17 @@ def test_the_registry_names_every_hypothesis_once_and_diagnose_refuses_others():
     assert all(h.variants >= 1 and h.what and h.signature for h in REGISTRY)
     with pytest.raises(InputError, match="hypotheses: unknown hypothesis 'rocking-walls'; one of: distributed-mass"):
         diagnose("no-model.toml", channels="no-channels.toml", hypotheses=["rocking-walls"])
+
+
+def test_the_recorded_base_form_drives_each_later_building_by_a_share_of_its_base_record():
+    from seispound.diagnose.hypotheses import HYPOTHESES as PHYSICS
+
+    hyp = PHYSICS["spatially-varying-input"]
+    k = next(k for k, f in enumerate(hyp.forms) if getattr(f, "reads_recording", False))
+    aug, specs, null = hyp.augment(_tables()["as bundled"], k, CONTEXT)
+    assert specs == ["building.B.ground_motion.weight=0:1"] and null == {"building.B.ground_motion.weight": 0.0}
+    gm = aug["building"][1]["ground_motion"]
+    assert (gm["file"], gm["trace"], gm["units"]) == ("/data/recording.mseed", "XX.B.00.HNX", "m/s2")
+    assert "ground_motion" not in aug["building"][0]  # the first building stands on the row's record
+    with pytest.raises(ValueError, match="no building beyond the first has its base acceleration recorded"):
+        hyp.augment(_tables()["as bundled"], k)  # a recording without base channels: the form cannot run

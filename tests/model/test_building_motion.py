@@ -78,3 +78,32 @@ def test_a_negative_delay_advances_the_record_and_warns_when_it_cuts_strong_moti
         variant(ag, dt, -0.2)  # the cut 0.2 s are quiet: no warning
     with pytest.warns(PlausibilityWarning, match=r"delay: -0.6 s advances the record.*100% of its peak"):
         variant(ag, dt, -0.6)  # the pulse falls before the analysis starts
+
+
+def test_a_share_of_its_own_record_mixes_it_with_the_rows(tmp_path):
+    """w a_own + (1 - w) a_row (closed form): the own record here is the row's at half scale, so the building's
+    motion is (1 - w / 2) times the row's; w = 0 is the row's record itself, to the bit, and shares its row."""
+    for w, factor in ((0.25, 0.875), (1.0, 0.5)):
+        text = _with(BASE, f'ground_motion = {{ file = "rec.AT2", units = "g", scale = 0.5, weight = {w} }}\n')
+        model = sp.load_model(write_model(tmp_path, text))
+        assert model.building_motions()[1].weight == w
+        ds = sp.simulate(model, twin=False)
+        ag = ds.ground_acceleration.values
+        assert np.allclose(ds.base_acceleration.sel(building="B").values, factor * ag, rtol=1e-14, atol=1e-15)
+        assert json.loads(ds.attrs["building_ground_motion"])["B"]["weight"] == w
+    text = _with(BASE, 'ground_motion = { file = "rec.AT2", units = "g", weight = 0.0 }\n')
+    motions = sp.simulation.prepare_ground_motions(sp.load_model(write_model(tmp_path, text)))
+    assert motions.row_of.tolist() == [0, 0]
+
+
+@pytest.mark.parametrize("line,key,what", [
+    ("ground_motion = { weight = 0.5 }\n", "building.B.ground_motion.file", "weight describe a record"),
+    ('ground_motion = { file = "rec.AT2", weight = 1.5 }\n', "building.B.ground_motion.weight", "share 0..1"),
+    ('ground_motion = { file = "rec.AT2", weight = "all" }\n', "building.B.ground_motion.weight", "share 0..1"),
+])
+def test_a_share_without_a_record_or_outside_0_1_is_refused(tmp_path, line, key, what):
+    from seispound.errors import InputError
+
+    with pytest.raises(InputError, match=what) as err:
+        sp.load_model(write_model(tmp_path, _with(BASE, line)))
+    assert err.value.key == key

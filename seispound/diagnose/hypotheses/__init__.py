@@ -18,9 +18,9 @@ benchmarks read the registry.
 from __future__ import annotations
 
 from . import distributed_mass, inelastic, restitution, soil, spatial, stiffness_distribution
-from ._hypothesis import Hypothesis
+from ._hypothesis import Context, Hypothesis
 
-__all__ = ["ALTERNATIVES", "HYPOTHESES", "REGISTRY", "Hypothesis"]
+__all__ = ["ALTERNATIVES", "HYPOTHESES", "REGISTRY", "Context", "Hypothesis"]
 
 # in the order diagnose submits their fits
 REGISTRY = (

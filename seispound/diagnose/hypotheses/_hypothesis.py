@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import copy
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable
 
-__all__ = ["Hypothesis", "needs_buildings", "needs_gaps"]
+__all__ = ["Context", "Hypothesis", "needs_buildings", "needs_gaps", "reads_recording"]
 
 
 @dataclass(frozen=True)
@@ -46,11 +46,34 @@ class Hypothesis:
         """How many forms the augmentation takes (each fitted; the best is kept)."""
         return len(self.forms)
 
-    def augment(self, data: dict, variant: int = 0) -> tuple[dict, list, dict]:
-        """(the augmented model table, the fit specs PATH=lo:hi, the null point {PATH: value})."""
+    def augment(self, data: dict, variant: int = 0, context: Context | None = None) -> tuple[dict, list, dict]:
+        """(the augmented model table, the fit specs PATH=lo:hi, the null point {PATH: value}); a form marked
+        ``reads_recording`` is also given ``context`` (what the recording holds beside the fitted channels)."""
         out = copy.deepcopy(data)
-        specs, null = self.forms[variant](out)
+        form = self.forms[variant]
+        specs, null = form(out, context or Context()) if getattr(form, "reads_recording", False) else form(out)
         return out, specs, null
+
+
+@dataclass(frozen=True)
+class Context:
+    """What a recording holds beside the channels a fit compares: the accelerations recorded at buildings'
+    bases, which drive no channel of the model but may drive the building.
+
+    Parameters
+    ----------
+    base_records : dict
+        building name -> {"file": absolute path of the file holding the trace, "trace": its id,
+        "scale": the channel map's factor to m/s^2}.  Empty for several trials (each has its own).
+    """
+
+    base_records: dict = field(default_factory=dict)
+
+
+def reads_recording(form: Callable) -> Callable:
+    """Mark a form that reads the :class:`Context` (called as ``form(table, context)``)."""
+    form.reads_recording = True
+    return form
 
 
 def needs_gaps(what: str) -> Callable:

@@ -1,8 +1,9 @@
-"""Spatially varying input: a building's ground motion delayed, or delayed and low-passed (wave passage)."""
+"""Spatially varying input: a building's ground motion delayed, delayed and low-passed (wave passage), or the
+motion recorded at its base (incoherence that no transformation of the free field describes)."""
 
 from __future__ import annotations
 
-from ._hypothesis import Hypothesis
+from ._hypothesis import Hypothesis, reads_recording
 
 
 def _spatial(d):
@@ -29,6 +30,25 @@ def _spatial_filtered(d):
     return specs, null
 
 
+@reads_recording
+def _spatial_recorded(d, ctx):
+    # each building beyond the first whose base acceleration was recorded driven by a share w of that record and
+    # 1 - w of the free field's: a partly incoherent motion has a random part that no delay or filter of the free
+    # field can reproduce, but a sensor at the building's base records it.  Null: w = 0, the row's record
+    specs, null = [], {}
+    for b in d["building"][1:]:
+        rec = ctx.base_records.get(b["name"])
+        if rec is None:
+            continue
+        b["ground_motion"] = {"file": rec["file"], "trace": rec["trace"], "units": "m/s2", "scale": rec["scale"],
+                              "weight": 0.0}
+        specs.append(f"building.{b['name']}.ground_motion.weight=0:1")
+        null[f"building.{b['name']}.ground_motion.weight"] = 0.0
+    if not specs:
+        raise ValueError("no building beyond the first has its base acceleration recorded")
+    return specs, null
+
+
 def _why_not(d):
     return None if len(d.get("building", [])) >= 2 else ("a single building: the ground motion is the record itself, "
                                                           "there is no second base for it to differ at")
@@ -37,4 +57,4 @@ def _why_not(d):
 HYPOTHESIS = Hypothesis(
     "spatially-varying-input", "a different ground motion under a building (wave passage)",
     "a building's floor channels out of phase with the model from the start, the free-field building right",
-    forms=(_spatial, _spatial_filtered), why_not=_why_not)
+    forms=(_spatial, _spatial_filtered, _spatial_recorded), why_not=_why_not)

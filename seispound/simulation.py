@@ -324,7 +324,7 @@ def prepare_ground_motions(model) -> GroundMotions:
             continue
         key = f"building.{b.name}.ground_motion"
         base, bprov = (ag, prov) if m.record is None else _prepare_record(m.record, model, key)
-        if m.record is not None and m.weight < 1.0:  # a share of the building's own record, the rest the row's
+        if m.record is not None and m.weight != 1.0:  # the row's record and w times its own's difference from it
             base = m.weight * base + (1.0 - m.weight) * ag
         own = bprov.get("dt_original") if isinstance(bprov, dict) else None  # the record's step: its arrival
         samples, steps = variant(base, model.analysis.dt, m.delay, m.lowpass, m.lowpass_order, key=key,

@@ -365,7 +365,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
         raise InputError(f"unknown hypothesis {unknown[0]!r}; one of: {', '.join(HYPOTHESES)}", key="hypotheses")
     jobs = (os.cpu_count() or 1) if jobs is None else int(jobs)
     model, chans, trial_list = load_inputs(model, recordings, channels, trials)
-    context = _context(chans, trial_list)
+    context = _context(chans, trial_list, _input_ids(model))
     chans = [c for c in chans if not (c.quantity == "acceleration" and c.floor == 0)]  # the input, not a response
     base_data = tomllib.loads(model.text)
     # every fit's contact substeps as given, else 32 (what the numerics check below doubles)
@@ -743,10 +743,11 @@ def _starts(name, variant, data, alt, base, chans, trial_list, context=None):
 DUCTILITIES = (2.0, 4.0)  # the yield drifts a yielding form's scan also tries: the elastic peak over these
 
 
-def _context(chans, trial_list):
+def _context(chans, trial_list, input_ids=()):
     """The :class:`~seispound.diagnose.hypotheses.Context` of one recording: each building's base acceleration
-    channel (the first mapped at floor 0 that is not the model's own input, which ``diagnose`` never fits).
-    Several trials each have their own recording, so they give none."""
+    channel, the first mapped at its floor 0 that is not the model's own input (trace ids ``input_ids``: the free
+    field, which may be mapped at the first building's floor 0 too).  Several trials each have their own
+    recording, so they give none."""
     from .hypotheses import Context
 
     if len(trial_list) != 1 or trial_list[0].model_data is not None:
@@ -754,9 +755,25 @@ def _context(chans, trial_list):
     files = trial_list[0].recording.files
     out = {}
     for c in chans:
-        if c.quantity == "acceleration" and c.floor == 0 and c.gap is None and c.factor > 0 and c.id in files:
+        if c.quantity == "acceleration" and c.floor == 0 and c.gap is None and c.factor > 0 and c.id in files \
+                and c.id not in input_ids:
             out.setdefault(c.building, {"file": files[c.id], "trace": c.id, "scale": float(c.factor)})
     return Context(base_records=out)
+
+
+def _input_ids(model) -> set:
+    """The trace id of the model's own record, where its file carries one (miniSEED, SAC: not an AT2 file)."""
+    gm = model.ground_motion
+    if gm is None or gm.file is None:
+        return set()
+    if isinstance(gm.trace, str):
+        return {gm.trace}
+    try:
+        import obspy
+
+        return {obspy.read(str(gm.file), headonly=True)[int(gm.trace)].id}
+    except Exception:  # noqa: BLE001 (a record obspy cannot read by itself carries no id to compare)
+        return set()
 
 
 def _yield_anchors(data, specs, nulls, base, trial_list) -> list[tuple[int, dict]]:

@@ -105,10 +105,10 @@ class BuildingMotion:
         A record of the building's own instead of the row's (then delayed and
         low-passed as above, if asked).
     weight : float
-        With ``record``: its share w of the building's motion, the rest the row's
-        record, w a_own + (1 - w) a_row [-], 0 <= w <= 1 (default 1: the own record
-        alone).  ``diagnose`` fits w from 0, where the building is driven by the row's
-        record, to drive it by the acceleration recorded at its base.
+        With ``record``: the building's motion is w a_own + (1 - w) a_row [-], the row's
+        record plus w times the difference of its own from it, 0 <= w <= 2 (default 1:
+        the own record alone).  ``diagnose`` fits w from 0, where the building is driven
+        by the row's record, to drive it by the acceleration recorded at its base.
 
     See :mod:`seispound.motion.spatial`.
     """
@@ -129,8 +129,8 @@ class BuildingMotion:
             raise InputError(f"must be an integer 1..8, got {order!r}", key=f"{key}.lowpass_order")
         if self.record is not None and not isinstance(self.record, GroundMotionSpec):
             raise InputError("must be a GroundMotionSpec", key=f"{key}.file")
-        if not _finite(self.weight) or not 0.0 <= self.weight <= 1.0:
-            raise InputError(f"must be a share 0..1 of the building's own record, got {self.weight!r}",
+        if not _finite(self.weight) or not 0.0 <= self.weight <= 2.0:
+            raise InputError(f"must be a share 0..2 of the building's own record, got {self.weight!r}",
                              key=f"{key}.weight")
 
     @property

@@ -57,15 +57,21 @@ def test_the_registry_names_every_hypothesis_once_and_diagnose_refuses_others():
         diagnose("no-model.toml", channels="no-channels.toml", hypotheses=["rocking-walls"])
 
 
-def test_the_recorded_base_form_drives_each_later_building_by_a_share_of_its_base_record():
+def test_the_recorded_base_form_drives_each_building_with_a_base_channel_by_a_share_of_its_record():
     from seispound.diagnose.hypotheses import HYPOTHESES as PHYSICS
 
     hyp = PHYSICS["spatially-varying-input"]
     k = next(k for k, f in enumerate(hyp.forms) if getattr(f, "reads_recording", False))
     aug, specs, null = hyp.augment(_tables()["as bundled"], k, CONTEXT)
-    assert specs == ["building.B.ground_motion.weight=0:1"] and null == {"building.B.ground_motion.weight": 0.0}
+    assert specs == ["building.B.ground_motion.weight=0:1.5"] and null == {"building.B.ground_motion.weight": 0.0}
     gm = aug["building"][1]["ground_motion"]
     assert (gm["file"], gm["trace"], gm["units"]) == ("/data/recording.mseed", "XX.B.00.HNX", "m/s2")
-    assert "ground_motion" not in aug["building"][0]  # the first building stands on the row's record
-    with pytest.raises(ValueError, match="no building beyond the first has its base acceleration recorded"):
+    assert "ground_motion" not in aug["building"][0]  # A has no base channel: it stands on the row's record
+    # only A's base recorded: A driven by its share, B (no base channel) delayed and low-passed
+    only_a = Context(base_records={"A": CONTEXT.base_records["B"]})
+    aug, specs, null = hyp.augment(_tables()["as bundled"], k, only_a)
+    assert [s.partition("=")[0] for s in specs] == ["building.A.ground_motion.weight", "building.B.ground_motion.delay",
+                                                    "building.B.ground_motion.lowpass"]
+    assert null["building.B.ground_motion.delay"] == 0.0 and "file" not in aug["building"][1]["ground_motion"]
+    with pytest.raises(ValueError, match="no building has its base acceleration recorded apart from the model's"):
         hyp.augment(_tables()["as bundled"], k)  # a recording without base channels: the form cannot run

@@ -1,9 +1,9 @@
 """A building driven by the acceleration recorded at its base (``spatially-varying-input``'s third form).
 
 Partly incoherent input has a random part that no delay or filter of the free field reproduces; a sensor
-at the building's base records it.  ``diagnose`` hands the form each building's base channel
-(``api._context``), and the form fits the share w of it in the building's motion from w = 0, the base
-model.  Regression guard on data the package made (the truth w = 1 and the noise's NE are known, so a
+at the building's base records it.  ``diagnose`` hands the form each building's base channel that is not
+the model's own input (``api._context``), and the form fits the share w of it in the building's motion from
+w = 0, the base model.  Regression guard on data the package made (the truth w = 1 and the noise's NE are known, so a
 fit that does not converge, or a form that drives the wrong building, fails)."""
 
 from __future__ import annotations
@@ -63,18 +63,18 @@ def _case(tmp_path):
 
 def test_the_context_holds_each_buildings_base_channel_and_none_for_several_trials(tmp_path):
     data, floors, base_chans, trial = _case(tmp_path)
-    ctx = api._context(base_chans + floors, [trial])
-    # the free field is mapped at A's floor 0 too; it is the first there, and the form never drives A
-    assert ctx.base_records["B"] == {"file": str(tmp_path / "recording.mseed"), "trace": "XX.B.00.HNX", "scale": 1.0}
-    assert set(ctx.base_records) == {"A", "B"}
-    assert api._context(base_chans + floors, [trial, trial]).base_records == {}
+    # the free field, the model's input, is mapped at A's floor 0 too: it is no base channel of A
+    ctx = api._context(base_chans + floors, [trial], {"XX.FF.00.HNX"})
+    assert ctx.base_records == {"B": {"file": str(tmp_path / "recording.mseed"), "trace": "XX.B.00.HNX", "scale": 1.0}}
+    assert set(api._context(base_chans + floors, [trial]).base_records) == {"A", "B"}  # (without the input's id)
+    assert api._context(base_chans + floors, [trial, trial], {"XX.FF.00.HNX"}).base_records == {}
 
 
 def test_the_share_of_the_recorded_base_motion_is_fitted_from_the_base_model_to_one(tmp_path):
     data, floors, base_chans, trial = _case(tmp_path)
     hyp = HYPOTHESES["spatially-varying-input"]
     k = next(k for k, f in enumerate(hyp.forms) if getattr(f, "reads_recording", False))
-    aug, specs, null = hyp.augment(data, k, api._context(base_chans + floors, [trial]))
+    aug, specs, null = hyp.augment(data, k, api._context(base_chans + floors, [trial], {"XX.FF.00.HNX"}))
     table = copy.deepcopy(aug)
     for path, value in null.items():
         set_value(table, path, value)

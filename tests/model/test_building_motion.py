@@ -83,7 +83,7 @@ def test_a_negative_delay_advances_the_record_and_warns_when_it_cuts_strong_moti
 def test_a_share_of_its_own_record_mixes_it_with_the_rows(tmp_path):
     """w a_own + (1 - w) a_row (closed form): the own record here is the row's at half scale, so the building's
     motion is (1 - w / 2) times the row's; w = 0 is the row's record itself, to the bit, and shares its row."""
-    for w, factor in ((0.25, 0.875), (1.0, 0.5)):
+    for w, factor in ((0.25, 0.875), (1.0, 0.5), (1.5, 0.25)):
         text = _with(BASE, f'ground_motion = {{ file = "rec.AT2", units = "g", scale = 0.5, weight = {w} }}\n')
         model = sp.load_model(write_model(tmp_path, text))
         assert model.building_motions()[1].weight == w
@@ -98,10 +98,10 @@ def test_a_share_of_its_own_record_mixes_it_with_the_rows(tmp_path):
 
 @pytest.mark.parametrize("line,key,what", [
     ("ground_motion = { weight = 0.5 }\n", "building.B.ground_motion.file", "weight describe a record"),
-    ('ground_motion = { file = "rec.AT2", weight = 1.5 }\n', "building.B.ground_motion.weight", "share 0..1"),
-    ('ground_motion = { file = "rec.AT2", weight = "all" }\n', "building.B.ground_motion.weight", "share 0..1"),
+    ('ground_motion = { file = "rec.AT2", weight = 2.5 }\n', "building.B.ground_motion.weight", "share 0..2"),
+    ('ground_motion = { file = "rec.AT2", weight = "all" }\n', "building.B.ground_motion.weight", "share 0..2"),
 ])
-def test_a_share_without_a_record_or_outside_0_1_is_refused(tmp_path, line, key, what):
+def test_a_share_without_a_record_or_outside_0_2_is_refused(tmp_path, line, key, what):
     from seispound.errors import InputError
 
     with pytest.raises(InputError, match=what) as err:

@@ -32,20 +32,27 @@ def _spatial_filtered(d):
 
 @reads_recording
 def _spatial_recorded(d, ctx):
-    # each building beyond the first whose base acceleration was recorded driven by a share w of that record and
-    # 1 - w of the free field's: a partly incoherent motion has a random part that no delay or filter of the free
-    # field can reproduce, but a sensor at the building's base records it.  Null: w = 0, the row's record
+    # each building whose base acceleration was recorded driven by the free field plus a share w of the difference
+    # its base sensor recorded, w a_base + (1 - w) a_free: a partly incoherent motion has a random part that no
+    # delay or filter of the free field reproduces, but the sensor records it.  Null: w = 0, the row's record;
+    # w = 1, the recorded base motion; up to 1.5 for a base sensor that reads low.  The buildings after the first
+    # without a base channel: delayed and low-passed, as in ``_spatial_filtered``
+    nyquist = 0.5 / float(d.get("analysis", {}).get("dt", 0.005))
     specs, null = [], {}
-    for b in d["building"][1:]:
+    for k, b in enumerate(d["building"]):
         rec = ctx.base_records.get(b["name"])
-        if rec is None:
-            continue
-        b["ground_motion"] = {"file": rec["file"], "trace": rec["trace"], "units": "m/s2", "scale": rec["scale"],
-                              "weight": 0.0}
-        specs.append(f"building.{b['name']}.ground_motion.weight=0:1")
-        null[f"building.{b['name']}.ground_motion.weight"] = 0.0
-    if not specs:
-        raise ValueError("no building beyond the first has its base acceleration recorded")
+        key = f"building.{b['name']}.ground_motion"
+        if rec is not None:
+            b["ground_motion"] = {"file": rec["file"], "trace": rec["trace"], "units": "m/s2", "scale": rec["scale"],
+                                  "weight": 0.0}
+            specs.append(f"{key}.weight=0:1.5")
+            null[f"{key}.weight"] = 0.0
+        elif k > 0:
+            b["ground_motion"] = {"delay": 0.0, "lowpass": 0.8 * nyquist, "lowpass_order": 2}
+            specs += [f"{key}.delay=0:0.3", f"{key}.lowpass=0.5:{float(0.8 * nyquist)!r}"]
+            null.update({f"{key}.delay": 0.0, f"{key}.lowpass": 0.8 * nyquist})
+    if not any(s.endswith(".weight=0:1.5") for s in specs):
+        raise ValueError("no building has its base acceleration recorded apart from the model's input")
     return specs, null
 
 

@@ -16,17 +16,21 @@ def _spatial(d):
     return specs, null
 
 
+def _filtered(b, nyquist, specs, null):
+    # a building's motion delayed and low-passed: null, no delay and a cut-off far above the structure's band
+    key = f"building.{b['name']}.ground_motion"
+    b["ground_motion"] = {"delay": 0.0, "lowpass": 0.8 * nyquist, "lowpass_order": 2}
+    specs += [f"{key}.delay=0:0.3", f"{key}.lowpass=0.5:{float(0.8 * nyquist)!r}"]
+    null.update({f"{key}.delay": 0.0, f"{key}.lowpass": 0.8 * nyquist})
+
+
 def _spatial_filtered(d):
     # the others' motion delayed and low-passed (a wave that loses its high frequencies on the way; the
-    # incoherence of a wide foundation); null: no delay, a cut-off far above the structure's band
+    # incoherence of a wide foundation)
     nyquist = 0.5 / float(d.get("analysis", {}).get("dt", 0.005))
     specs, null = [], {}
     for b in d["building"][1:]:
-        b["ground_motion"] = {"delay": 0.0, "lowpass": 0.8 * nyquist, "lowpass_order": 2}
-        specs += [f"building.{b['name']}.ground_motion.delay=0:0.3",
-                  f"building.{b['name']}.ground_motion.lowpass=0.5:{float(0.8 * nyquist)!r}"]
-        null[f"building.{b['name']}.ground_motion.delay"] = 0.0
-        null[f"building.{b['name']}.ground_motion.lowpass"] = 0.8 * nyquist
+        _filtered(b, nyquist, specs, null)
     return specs, null
 
 
@@ -36,21 +40,20 @@ def _spatial_recorded(d, ctx):
     # its base sensor recorded, w a_base + (1 - w) a_free: a partly incoherent motion has a random part that no
     # delay or filter of the free field reproduces, but the sensor records it.  Null: w = 0, the row's record;
     # w = 1, the recorded base motion; up to 1.5 for a base sensor that reads low.  The buildings after the first
-    # without a base channel: delayed and low-passed, as in ``_spatial_filtered``
+    # without a base channel as in ``_spatial_filtered``
     nyquist = 0.5 / float(d.get("analysis", {}).get("dt", 0.005))
     specs, null = [], {}
     for k, b in enumerate(d["building"]):
         rec = ctx.base_records.get(b["name"])
+        if rec is None:
+            if k > 0:
+                _filtered(b, nyquist, specs, null)
+            continue
         key = f"building.{b['name']}.ground_motion"
-        if rec is not None:
-            b["ground_motion"] = {"file": rec["file"], "trace": rec["trace"], "units": "m/s2", "scale": rec["scale"],
-                                  "weight": 0.0}
-            specs.append(f"{key}.weight=0:1.5")
-            null[f"{key}.weight"] = 0.0
-        elif k > 0:
-            b["ground_motion"] = {"delay": 0.0, "lowpass": 0.8 * nyquist, "lowpass_order": 2}
-            specs += [f"{key}.delay=0:0.3", f"{key}.lowpass=0.5:{float(0.8 * nyquist)!r}"]
-            null.update({f"{key}.delay": 0.0, f"{key}.lowpass": 0.8 * nyquist})
+        b["ground_motion"] = {"file": rec["file"], "trace": rec["trace"], "units": "m/s2", "scale": rec["scale"],
+                              "weight": 0.0}
+        specs.append(f"{key}.weight=0:1.5")
+        null[f"{key}.weight"] = 0.0
     if not any(s.endswith(".weight=0:1.5") for s in specs):
         raise ValueError("no building has its base acceleration recorded apart from the model's input")
     return specs, null

@@ -755,8 +755,7 @@ def _context(chans, trial_list, input_ids=()):
     files = trial_list[0].recording.files
     out = {}
     for c in chans:
-        if c.quantity == "acceleration" and c.floor == 0 and c.gap is None and c.factor > 0 and c.id in files \
-                and c.id not in input_ids:
+        if c.quantity == "acceleration" and c.floor == 0 and c.factor > 0 and c.id in files and c.id not in input_ids:
             out.setdefault(c.building, {"file": files[c.id], "trace": c.id, "scale": float(c.factor)})
     return Context(base_records=out)
 

@@ -257,14 +257,13 @@ def _restitution(fit, data):
                          defining=True)]
 
 
+_INPUT_KEYS = (("delay", "delay of its ground motion", "s"), ("lowpass", "low-pass corner of its ground motion", "Hz"),
+               ("weight", "share of the motion recorded at its base", "-"))
+
+
 def _delays(fit, data):
-    out = [_delta(fit, f"{p.split('.')[1]}: delay of its ground motion", "s", lambda x, p=p: x[p], [p], defining=True)
-           for p in fit.parameters if p.endswith("ground_motion.delay")]
-    out += [_delta(fit, f"{p.split('.')[1]}: low-pass corner of its ground motion", "Hz", lambda x, p=p: x[p],
-                   [p], defining=True) for p in fit.parameters if p.endswith("ground_motion.lowpass")]
-    return out + [_delta(fit, f"{p.split('.')[1]}: share of the motion recorded at its base", "-",
-                         lambda x, p=p: x[p], [p], defining=True) for p in fit.parameters
-                  if p.endswith("ground_motion.weight")]
+    return [_delta(fit, f"{p.split('.')[1]}: {what}", units, lambda x, p=p: x[p], [p], defining=True)
+            for key, what, units in _INPUT_KEYS for p in fit.parameters if p.endswith(f"ground_motion.{key}")]
 
 
 _QUANTITIES = {"soil-structure-interaction": _soil, "distributed-mass": _rods, "inelastic-storey": _yielding,

@@ -42,6 +42,8 @@ def _spatial_recorded(d, ctx):
     # w = 1, the recorded base motion; up to 1.5 for a base sensor that reads low.  The buildings after the first
     # without a base channel as in ``_spatial_filtered``
     nyquist = 0.5 / float(d.get("analysis", {}).get("dt", 0.005))
+    if not any(b["name"] in ctx.base_records for b in d["building"]):
+        raise ValueError("no building has its base acceleration recorded apart from the model's input")
     specs, null = [], {}
     for k, b in enumerate(d["building"]):
         rec = ctx.base_records.get(b["name"])
@@ -54,8 +56,6 @@ def _spatial_recorded(d, ctx):
                               "weight": 0.0}
         specs.append(f"{key}.weight=0:1.5")
         null[f"{key}.weight"] = 0.0
-    if not any(s.endswith(".weight=0:1.5") for s in specs):
-        raise ValueError("no building has its base acceleration recorded apart from the model's input")
     return specs, null
 
 

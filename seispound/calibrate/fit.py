@@ -77,7 +77,7 @@ class FitParameter:
 
 
 _RESTITUTION_KEYS = ("restitution", "e0", "e_inf", "e_ref", "min", "max")
-_LINEAR_KEYS = _RESTITUTION_KEYS + ("ratio", "size")  # fitted on a linear scale
+_LINEAR_KEYS = _RESTITUTION_KEYS + ("ratio", "size", "centre_of_mass")  # fitted on a linear scale
 
 
 def default_bounds(path: str, value) -> tuple[float, float, bool]:
@@ -92,6 +92,8 @@ def default_bounds(path: str, value) -> tuple[float, float, bool]:
         return 0.001, 0.3, False
     if last == "size":
         return 0.0, max(4.0 * v, 0.05), False
+    if last == "centre_of_mass":  # a rod floor's: its linear mass density stays positive inside (1/3, 2/3)
+        return 0.34, 0.66, False
     if any(w in path for w in _LOG_WORDS) and v > 0:
         return v / 10.0, v * 10.0, True
     if v > 0:

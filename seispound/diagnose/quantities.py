@@ -72,18 +72,12 @@ def flexible_base_period(masses, stiffness, heights, sway, rocking, m0, i0) -> f
     return 2.0 * math.pi / math.sqrt(w2[0])
 
 
-def _first_axial(mass, axial_stiffness, segments) -> float:
-    """First nonzero free-free frequency [Hz] of a chain of segments + 1 lumped masses (halves at the ends)."""
-    from scipy.linalg import eigh
+def _first_axial(mass, rod) -> float:
+    """First nonzero free-free axial frequency [Hz] of a floor of mass [kg] as the rod table ``rod`` describes."""
+    from ..floor.rod import RodFloor
 
-    nodes = segments + 1
-    w = np.full(nodes, mass / segments)
-    w[[0, -1]] *= 0.5
-    K = np.zeros((nodes, nodes))
-    k = axial_stiffness * segments  # a rod of axial stiffness EA / L: each of S segments is S times as stiff
-    for p in range(segments):
-        K[p:p + 2, p:p + 2] += k * np.array([[1.0, -1.0], [-1.0, 1.0]])
-    return math.sqrt(max(eigh(K, np.diag(w), eigvals_only=True)[1], 0.0)) / (2.0 * math.pi)
+    keys = ("segments", "length", "axial_stiffness", "centre_of_mass")
+    return RodFloor(**{k: rod[k] for k in keys if k in rod}).first_axial_omega(mass) / (2.0 * math.pi)
 
 
 def _covariance(fit, paths):
@@ -200,10 +194,17 @@ def _rods(fit, data):
             continue
         rod = b["floor_model"]
         m = _list(b["floor_masses"], _floors(b))[0]
-        ea_over_l = lambda x, p=path, rod=rod: x[p] / float(rod["length"])  # noqa: E731 (axial stiffness EA [N])
-        out.append(_delta(fit, f"{name}: first axial frequency of a floor", "Hz",
-                          lambda x, f=ea_over_l, rod=rod, m=m: _first_axial(m, f(x), int(rod["segments"])),
-                          [path], defining=True))
+        centre = f"building.{name}.floor_model.centre_of_mass"
+        paths = [path] + ([centre] if centre in fit.parameters else [])
+
+        def first(x, path=path, centre=centre, rod=rod, m=m):
+            return _first_axial(m, {**rod, "axial_stiffness": x[path], **({"centre_of_mass": x[centre]}
+                                                                          if centre in x else {})})
+
+        out.append(_delta(fit, f"{name}: first axial frequency of a floor", "Hz", first, paths, defining=True))
+        if centre in fit.parameters:
+            out.append(_delta(fit, f"{name}: floors' centre of mass from the left face", "length",
+                              lambda x, c=centre: x[c], [centre]))
     mass = "building.*.floor_model.attachment.mass"
     for name in _buildings(data):
         joint = f"building.{name}.floor_model.attachment.joint_stiffness"

@@ -6,7 +6,10 @@ EA N / L (Cook et al. 2002, Concepts and Applications of Finite Element
 Analysis, Sec. 11.3: bar elements with lumped mass).  Its free-free axial
 modes converge to f_j = j c / (2 L), c = sqrt(EA / (m / L)), from below as
 O(1/N^2).  Stiffness-proportional damping on the axial springs gives the
-ratio ``axial_damping`` in the first axial mode.  An attachment is a bolted
+ratio ``axial_damping`` in the first axial mode.  A floor whose mass gathers toward one face
+(``centre_of_mass`` off the middle) carries a linear mass density 1 + g (x / L - 1/2) per unit mean,
+g = 12 (x_c / L - 1/2), lumped on each node over its tributary length; the storey below stays
+shared by tributary length (the columns stand where they stand).  An attachment is a bolted
 pounding element on the contact face: its own mass on a joint spring and dashpot.
 """
 
@@ -55,6 +58,9 @@ class RodFloor:
         middle), or "attachment" for a sensor on the attachment.
     attachment : Attachment, optional
         On every face of the floor that faces a neighbour.
+    centre_of_mass : float
+        The floor's centre of mass as a fraction of the length from the left face, in (1/3, 2/3)
+        (0.5: uniform; the linear density stays positive inside these bounds).
     """
 
     segments: int
@@ -65,6 +71,7 @@ class RodFloor:
     axial_damping: float = 0.0
     sensor: object = 0.5
     attachment: Attachment | None = None
+    centre_of_mass: float = 0.5
     kind: str = "rod"
 
     def validate(self, key="floor_model"):
@@ -95,17 +102,38 @@ class RodFloor:
                                  f'"attachment", got {s:g}', key=f"{key}.sensor")
         if self.attachment is not None:
             self.attachment.validate(f"{key}.attachment")
+        c = finite_number(self.centre_of_mass, f"{key}.centre_of_mass")
+        if not 1.0 / 3.0 < c < 2.0 / 3.0:
+            raise InputError(f"must lie strictly between 1/3 and 2/3 of the length (a linear mass density that "
+                             f"stays positive), got {c:g}", key=f"{key}.centre_of_mass")
 
     @property
     def ea(self) -> float:
         """EA [N]."""
         return float(self.axial_stiffness if self.axial_stiffness is not None else self.youngs_modulus * self.area)
 
-    def node_shares(self) -> np.ndarray:
-        """Each node's share of the floor's mass, shape (N + 1,): 1/N inside, 1/(2N) at the faces."""
+    def tributary_shares(self) -> np.ndarray:
+        """Each node's share of the floor's length, shape (N + 1,): 1/N inside, 1/(2N) at the faces.
+
+        The storey below a floor is shared by these (its columns stand along the length)."""
         w = np.full(self.segments + 1, 1.0 / self.segments)
         w[[0, -1]] *= 0.5
         return w
+
+    def node_shares(self) -> np.ndarray:
+        """Each node's share of the floor's mass, shape (N + 1,), summing to 1.
+
+        The linear density 1 + g (x - 1/2) (x = position / L, g = 12 (centre_of_mass - 1/2): a density
+        with that centroid, derived) integrated over each node's tributary interval [a, b]:
+        (b - a) (1 + g ((a + b) / 2 - 1/2)).  Uniform (g = 0): the tributary shares."""
+        w = self.tributary_shares()
+        g = 12.0 * (float(self.centre_of_mass) - 0.5)
+        if g == 0.0:
+            return w
+        x = np.arange(self.segments + 1) / self.segments
+        h = 0.5 / self.segments
+        mid = (np.clip(x - h, 0.0, 1.0) + np.clip(x + h, 0.0, 1.0)) / 2.0  # each tributary interval's middle
+        return w * (1.0 + g * (mid - 0.5))
 
     def segment_stiffness(self) -> float:
         """EA N / L [N/m]."""

@@ -31,7 +31,7 @@ _BUILDING = {"name", "floors", "floor_masses", "storey_stiffness", "storey_heigh
              "initial_velocity", "position", "ground_motion", "storey_law", "foundation", "floor_model",
              "storey_stiffness_taper"}
 _FLOOR_MODEL = {"kind", "segments", "length", "axial_stiffness", "youngs_modulus", "area", "axial_damping", "sensor",
-                "attachment"}
+                "attachment", "centre_of_mass"}
 _ATTACHMENT = {"mass", "joint_stiffness", "joint_damping"}
 _FOUNDATION = {"mass", "rotary_inertia", "floor_rotary_inertia", "sway_stiffness", "sway_damping",
                "rocking_stiffness", "rocking_damping", "soil", "footing"}

@@ -81,7 +81,8 @@ def building_layout(b, start: int, n_par: int, faces=(True, True)) -> Layout:
         out.foundation = (theta, base)
     out.face[(0, LEFT)] = out.face[(0, RIGHT)] = base
     rod = b.floor_model
-    shares = [1.0] if rod is None else rod.node_shares().tolist()
+    shares = [1.0] if rod is None else rod.node_shares().tolist()  # of the floor's mass
+    spans = [1.0] if rod is None else rod.tributary_shares().tolist()  # of the storey below (by length)
     heights = [0.0] + b.floor_heights.tolist()
     masses, stiffness, velocity = b.floor_masses.tolist(), b.storey_stiffness.tolist(), b.initial_velocity.tolist()
     below_nodes = [base] * len(shares)
@@ -93,14 +94,14 @@ def building_layout(b, start: int, n_par: int, faces=(True, True)) -> Layout:
         if rod is not None and rod.attachment is not None and faces[LEFT]:
             att[LEFT] = _attachment(out, start, rod.attachment, k + 1, velocity[k])
         nodes = []
-        for p, share in enumerate(shares):
+        for p, (share, span) in enumerate(zip(shares, spans)):
             dof = start + len(out.mass)
             nodes.append(dof)
             _dof(out, m * share, FLOOR if rod is None else NODE, k + 1, 0.0 if f is not None else a0,
                  velocity[k], 1.0)
-            law_par = None if par is None else _scaled(par[k], int(codes[k]), share)
+            law_par = None if par is None else _scaled(par[k], int(codes[k]), span)
             _pad_storeys(out)
-            out.el.append((dof, below_nodes[p], theta, lever, stiffness[k] * share, a1, 0.0,
+            out.el.append((dof, below_nodes[p], theta, lever, stiffness[k] * span, a1, 0.0,
                            int(codes[k]), law_par))
             out.storey_of.append(k + 1)
             if f is not None and a0:  # mass-proportional damping on the motion relative to the foundation
@@ -122,10 +123,10 @@ def building_layout(b, start: int, n_par: int, faces=(True, True)) -> Layout:
         out.body_mass[k + 1] = m + sum(rod.attachment.mass for side in att if att[side] is not None)
         out.sensor[k + 1] = _sensor(rod, nodes, att)
         deformation = {}
-        for p, share in enumerate(shares):  # the mass-weighted mean of the node springs' deformations
-            deformation[nodes[p]] = deformation.get(nodes[p], 0.0) + share
+        for p, span in enumerate(spans):  # the node springs' deformations weighted as their stiffness
+            deformation[nodes[p]] = deformation.get(nodes[p], 0.0) + span
             if below_nodes[p] >= 0:
-                deformation[below_nodes[p]] = deformation.get(below_nodes[p], 0.0) - share
+                deformation[below_nodes[p]] = deformation.get(below_nodes[p], 0.0) - span
         if f is not None:
             deformation[theta] = lever
         out.deformation[k + 1] = deformation

@@ -5,7 +5,11 @@
   Elastic Solids, Sec. 2.4): equal rods stay in contact 2L/c at the force rho c A v0 / 2 and exchange
   their velocities (e = 1); a short rod striking a long one (same material and section) leaves the long one
   with the mean velocity v0 L_short / L_long and itself at rest (e = L_short / L_long), after 2 L_short / c;
-* the lumped limit: a very stiff rod floor moves as the lumped floor;
+* a floor whose mass gathers toward one face (linear density 1 + g (x/L - 1/2)): the free-free axial modes of
+  EA u'' + omega^2 rho(x) u = 0 are Airy functions (Abramowitz & Stegun 1964, 10.4; the reduction derived
+  here): u = A Ai(z) + B Bi(z), z = -(kappa beta)^(1/3) (x + alpha / beta), kappa = omega^2 rho_0 / EA,
+  rho / rho_0 = alpha + beta x; u'(0) = u'(L) = 0 gives Ai'(z_0) Bi'(z_L) - Ai'(z_L) Bi'(z_0) = 0;
+* the lumped limit: a very stiff rod floor moves as the lumped floor (uniform or tapered);
 * an attachment on a joint: the free-free two-mass mode omega^2 = k_j (1/m + 1/m_a).
 """
 
@@ -14,6 +18,8 @@ import math
 import numpy as np
 import pytest
 from scipy.linalg import eigh
+from scipy.optimize import brentq
+from scipy.special import airy
 
 from seispound.contact import make_law
 from seispound.floor import Attachment, RodFloor
@@ -42,6 +48,39 @@ def test_first_axial_frequency_converges_to_c_over_2L():
     assert abs(errs[-1]) <= 5e-4  # measured -4.0e-4: the lumped rod's O(1/N^2) error at N = 32
     assert all(3.9 <= errs[k] / errs[k + 1] <= 4.1 for k in range(3))  # O(1/N^2), from below
     assert all(e < 0 for e in errs)
+
+
+def _airy_first_axial_hz(g, length=1.0):
+    """The first nonzero free-free axial frequency [Hz] of a rod of linear density rho_0 (1 + g (x/L - 1/2))."""
+    alpha, beta = 1.0 - g / 2.0, g / length
+
+    def det(omega):
+        c = np.cbrt(omega ** 2 * MASS_PER_LENGTH / EA * beta)
+        z0, z1 = -c * (alpha / beta), -c * (length + alpha / beta)
+        _, a0, _, b0 = airy(z0)
+        _, a1, _, b1 = airy(z1)
+        return a0 * b1 - a1 * b0
+
+    w0 = math.pi * C / length  # the uniform rod's; the tapered one's lies within a few per cent of it
+    return brentq(det, 0.7 * w0, 1.3 * w0, xtol=1e-14, rtol=1e-14) / (2.0 * math.pi)
+
+
+@pytest.mark.parametrize("centre", [0.4, 0.62])
+def test_tapered_rod_first_axial_frequency_is_the_airy_root(centre):
+    g = 12.0 * (centre - 0.5)
+    exact = _airy_first_axial_hz(g)
+    errs = []
+    for n in (50, 100, 200):
+        rod = RodFloor(segments=n, length=1.0, axial_stiffness=EA, centre_of_mass=centre)
+        shares = rod.node_shares()
+        x = np.linspace(0.0, 1.0, n + 1)
+        assert abs(shares.sum() - 1.0) <= 1e-14
+        assert abs(shares @ x - centre) <= abs(g) / (20 * n ** 2)  # the lumped centroid: measured g / (24 N^2) off
+        errs.append(rod.first_axial_omega(MASS_PER_LENGTH) / (2 * math.pi) / exact - 1)
+    print(f"MEASURED tapered rod (centre of mass {centre}) against the Airy root {exact:.2f} Hz, N = 50, 100, 200: "
+          + ", ".join(f"{e:+.1e}" for e in errs))
+    assert abs(errs[-1]) <= 3e-5  # measured -1.2e-5 and -1.3e-5, the lumped rod's O(1/N^2): uniform -(pi/N)^2/24 = -1.0e-5 at N = 200
+    assert 3.5 <= errs[0] / errs[1] <= 4.5 and 3.5 <= errs[1] / errs[2] <= 4.5
 
 
 def _impact(l1, l2, n1, n2, v0=0.1, dt=1e-5):
@@ -86,7 +125,8 @@ def test_saint_venant_short_rod_strikes_long_one():
     assert abs(got[-1]["duration"] / (1.0 / C) - 1) <= 0.025  # measured +2.01 %
 
 
-def test_stiff_rod_floors_move_as_lumped_floors():
+@pytest.mark.parametrize("centre", [0.5, 0.62])
+def test_stiff_rod_floors_move_as_lumped_floors(centre):
     dt, (ag, nsteps) = 0.005, el_centro(6.0, 0.005)
     law = make_law("Hd", stiffness=2.75e9, restitution=0.65)
 
@@ -96,7 +136,7 @@ def test_stiff_rod_floors_move_as_lumped_floors():
         return assemble([a, b], [Gap(("A", "B"), 0.02, law)])
 
     lumped = integrate(row(None), ag, dt, nsteps, driver="general")  # as the rod row steps
-    rod = row(RodFloor(segments=4, length=20.0, axial_stiffness=1e15))  # axial modes above 100 kHz
+    rod = row(RodFloor(segments=4, length=20.0, axial_stiffness=1e15, centre_of_mass=centre))  # above 100 kHz
     stiff = integrate(rod, ag, dt, nsteps)  # no modal basis (non-classical): the general driver, exact
     assert stiff.driver == "general" and stiff.scheme == "exact"
     u = stiff.displacement @ rod.outputs.sensor.T

@@ -7,14 +7,16 @@ from ._hypothesis import Hypothesis, needs_gaps
 
 def _distributed_mass(d):
     # every floor an axial rod, 20 m long in the line of impact (assumed), 4 segments; EA fitted per building
-    # (the first axial frequency sees EA / L, so the assumed length costs nothing), the damping ratio of the
-    # first axial mode one value for the row
+    # (the first axial frequency sees EA / L, so the assumed length costs nothing), and the floors' centre of
+    # mass per building (a floor heavier toward one face strikes with more or less of its mass); the damping
+    # ratio of the first axial mode one value for the row
     specs, null = ["building.*.floor_model.axial_damping=0.002:0.3"], {"building.*.floor_model.axial_damping": 0.02}
     for b in d["building"]:
         b["floor_model"] = {"kind": "rod", "segments": 4, "length": 20.0, "axial_stiffness": 1e10,
-                            "axial_damping": 0.02}
-        specs.append(f"building.{b['name']}.floor_model.axial_stiffness=1e8:1e13")
-        null[f"building.{b['name']}.floor_model.axial_stiffness"] = 1e13
+                            "axial_damping": 0.02, "centre_of_mass": 0.5}
+        rod = f"building.{b['name']}.floor_model"
+        specs += [f"{rod}.axial_stiffness=1e8:1e13", f"{rod}.centre_of_mass=0.34:0.66"]
+        null.update({f"{rod}.axial_stiffness": 1e13, f"{rod}.centre_of_mass": 0.5})
     return specs, null
 
 

@@ -48,6 +48,8 @@ def _truth(q, physics, name):
         return per.get("first_period_s")
     if physics == "distributed-mass" and "first axial frequency" in name:
         return per.get("first_axial_hz")
+    if physics == "distributed-mass" and "centre of mass" in name:
+        return per.get("centre_of_mass")
     if physics == "inelastic-storey" and name.endswith("yield drift"):
         return per.get("yield_drift")
     if physics == "velocity-dependent-restitution" and name.startswith("e at an impact velocity of"):

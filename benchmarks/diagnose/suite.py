@@ -175,7 +175,9 @@ def apply_form(form, row, rng, s, info):
             b.chain = ch
             ch["k_link"] = (f1 / first_axial_hz(b)) ** 2  # scaled so that floor 1's first axial mode is at f1
             ch["beta_link"] = 2 * zeta1 / (2 * math.pi * f1)
-            q.setdefault("buildings", {}).setdefault(b.name, {})["first_axial_hz"] = first_axial_hz(b)
+            per = q.setdefault("buildings", {}).setdefault(b.name, {})
+            per["first_axial_hz"] = first_axial_hz(b)
+            per["centre_of_mass"] = float(np.dot(w, np.linspace(0.0, 1.0, p)) / np.sum(w))  # of the length
         q["chain"] = {"nodes": p, "mass_profile": prof, "first_mode_damping": zeta1, "stiffness_proportional": True}
     elif form == "attachment":
         mr, fj, zj = rng.uniform(0.02, 0.06), rng.uniform(15.0, 40.0) / math.sqrt(s), rng.uniform(0.05, 0.2)

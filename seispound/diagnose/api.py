@@ -18,6 +18,9 @@
    calibration's uncertainties; Schwarz 1978): BIC = n_eff ln(RSS / n) + p ln(n_eff), by more
    than BIC_MARGIN, and lowers the mean NE by at least NE_GAIN.  Accepted hypotheses are
    ranked by their BIC.
+5. Two effects: above SECOND times the noise, the others fitted on top of the first physics and judged
+   against it.  When none is accepted alone, the best that beats the base and the wrong-parameter
+   alternatives by BIC is taken on trial, and named only with a second physics accepted on top of it.
 """
 
 from __future__ import annotations
@@ -468,35 +471,37 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
         offset = len(joint)
     ref = _Step(None, base_fit, bic_base, len(base_params))
     accepted, entries = _judge(outcomes, ref, n, n_eff, say, offset=offset)
-    tried.update(entries)
+    tried.update(_reported(entries))
     steps = []
-    if accepted:
-        accepted[0].probability = _posterior(entries, accepted[0].name)
-        first_step = accepted[0]
+    partial = not accepted and _partial(entries, ref)
+    if accepted or partial:
+        first_step = accepted[0] if accepted else partial
+        first_step.probability = _posterior(entries, first_step.name)
         steps.append(first_step)
         # 5. two effects at once: from the model with the first physics, the others tried again; a second is
-        # accepted under the same rule against the first's fit (real buildings rarely lack only one thing)
+        # accepted under the same rule against the first's fit (real buildings rarely lack only one thing).
+        # Where no physics alone lowers the NE by NE_GAIN, the one with the strongest evidence is taken on trial:
+        # it is named only together with a second that does, on top of it (two effects, each part of the misfit)
         rest = [nm for nm in names if nm != first_step.name]
         if rest and first_step.fit.ne_mean_after > SECOND * noise_ne:
             first_step = _continued(first_step, base, chans, trial_list, max_evaluations, n, n_eff, say)
             steps[0] = first_step
             tried[first_step.name]["continued"] = {"ne": first_step.fit.ne_mean_after,
                                                    "evaluations": first_step.fit.evaluations}
+        second = None
         if rest and first_step.fit.ne_mean_after > SECOND * noise_ne:
-            say(f"after {first_step.name} the misfit is {first_step.fit.ne_mean_after / noise_ne:.1f} times the "
-                f"noise: the other hypotheses tried on top of it")
-            second = tomllib.loads(first_step.fit.model_text)
-            fitted = [f"{q}={v['lo']!r}:{v['hi']!r}" for q, v in first_step.fit.parameters.items()]
-            more, entries = _judge(_fit_all(rest, second, base, chans, trial_list, max_evaluations, jobs,
-                                            first_step.fit.ne_mean_after, joint=fitted, say=say, n_eff=n_eff,
-                                            context=context),
-                                   first_step, n, n_eff,
-                                   say, offset=max(first_step.p, len(fitted)))
-            for name, entry in entries.items():
-                tried.setdefault(name, {})["on_top_of_" + first_step.name] = entry
-            if more:
-                more[0].probability = _posterior(entries, more[0].name)
-                steps.append(more[0])
+            second = _second_round(first_step, rest, base, chans, trial_list, max_evaluations, jobs, n, n_eff,
+                                   noise_ne, context, tried, say)
+        if partial and second is not None and second.name not in HYPOTHESES:
+            second = None  # a physics on trial is named beside another physics, not beside wrong parameters
+        if second is not None:
+            steps.append(second)
+        if partial and second is None:
+            say(f"{first_step.name}: no second physics on top of it; alone it lowered the NE by under "
+                f"{NE_GAIN:.0%}, so it is not named")
+            steps = []
+        elif partial:
+            tried[first_step.name].update(accepted=True, named_with=second.name)
     left_out = _left_out([st for st in steps if st.name in HYPOTHESES], base_fit, n_eff, signature)
     wrong = [{"what": ALTERNATIVES[st.name].what, "name": st.name,
               "evidence": f"refitted, the mean NE falls from {st.prev.fit.ne_mean_after:.4f} to "
@@ -976,8 +981,8 @@ class _Step:
 
 def _judge(outcomes, ref, n, n_eff, say, offset=0):
     """The fitted hypotheses against ``ref`` (BIC by more than BIC_MARGIN and NE by NE_GAIN): (the accepted
-    steps, best BIC first; {name: report entry}).  ``offset``: parameters already fitted in the model the
-    hypotheses were added to (0 when added to the base model as given)."""
+    steps, best BIC first; {name: report entry}, each fitted one's _Step under "step").  ``offset``: parameters
+    already fitted in the model the hypotheses were added to (0 when added to the base model as given)."""
     accepted, entries = [], {}
     for name, outcome in outcomes:
         if isinstance(outcome, str):  # an augmentation that cannot run is reported, not fatal
@@ -994,8 +999,9 @@ def _judge(outcomes, ref, n, n_eff, say, offset=0):
         word = f"{gain:.0%} better" if gain >= 0 else f"{-gain:.0%} worse"
         say(f"{name}: NE {fit.ne_mean_after:.4f} ({word} than {ref.name or 'the recalibrated base'}), "
             f"delta BIC {bic - ref.bic:+.1f}{' -> accepted' if ok else ''}")
+        entries[name]["step"] = _Step(name, fit, bic, offset + p, gain, ref)
         if ok:
-            accepted.append(_Step(name, fit, bic, offset + p, gain, ref))
+            accepted.append(entries[name]["step"])
     # a physics is named only if it also beats, by the same margin, the wrong parameters beyond recalibration's
     # span (a soft first storey against a sway spring): as good a fit by wrong parameters names no physics,
     # nor does a better one by the NE reported, whatever the BIC says (development case 4105-007: soil named
@@ -1009,6 +1015,44 @@ def _judge(outcomes, ref, n, n_eff, say, offset=0):
         accepted.remove(st)
     accepted.sort(key=lambda st: st.bic)
     return accepted, entries
+
+
+def _reported(entries) -> dict:
+    """A round's entries as the report holds them: without the fitted steps ``_judge`` keeps in them."""
+    return {name: {k: v for k, v in e.items() if k != "step"} for name, e in entries.items()}
+
+
+def _partial(entries, ref):
+    """The physics taken on trial when none is accepted alone: the best BIC among those that beat the base by
+    BIC_MARGIN, lower its NE, and beat every wrong-parameter alternative fitted beside them by the same margin
+    and by the NE; a _Step, or None."""
+    alts = [e for nm, e in entries.items() if nm in ALTERNATIVES and "delta_bic" in e]
+    alt_bic = min([e["delta_bic"] for e in alts], default=math.inf)
+    alt_ne = min([e["ne"] for e in alts], default=math.inf)
+    ok = [(e["delta_bic"], nm) for nm, e in entries.items() if nm in HYPOTHESES and "step" in e
+          and e["delta_bic"] < -BIC_MARGIN and e["ne_gain"] > 0.0 and e["delta_bic"] < alt_bic - BIC_MARGIN
+          and e["ne"] < alt_ne]
+    return entries[min(ok)[1]]["step"] if ok else None
+
+
+def _second_round(first_step, rest, base, chans, trial_list, max_evaluations, jobs, n, n_eff, noise_ne, context,
+                  tried, say):
+    """The hypotheses ``rest`` added to the model with ``first_step``'s physics and judged against its fit: the
+    best accepted one as a _Step, or None.  Every entry goes into ``tried`` under "on_top_of_<first>"."""
+    say(f"after {first_step.name} the misfit is {first_step.fit.ne_mean_after / noise_ne:.1f} times the "
+        f"noise: the other hypotheses tried on top of it")
+    second = tomllib.loads(first_step.fit.model_text)
+    fitted = [f"{q}={v['lo']!r}:{v['hi']!r}" for q, v in first_step.fit.parameters.items()]
+    more, entries = _judge(_fit_all(rest, second, base, chans, trial_list, max_evaluations, jobs,
+                                    first_step.fit.ne_mean_after, joint=fitted, say=say, n_eff=n_eff,
+                                    context=context),
+                           first_step, n, n_eff, say, offset=max(first_step.p, len(fitted)))
+    for name, entry in _reported(entries).items():
+        tried.setdefault(name, {})["on_top_of_" + first_step.name] = entry
+    if not more:
+        return None
+    more[0].probability = _posterior(entries, more[0].name)
+    return more[0]
 
 
 def _continued(step, base, chans, trial_list, max_evaluations, n, n_eff, say):
@@ -1054,11 +1098,14 @@ def _left_out(steps, base_fit, n_eff, signature) -> list:
                            "flexibility that lowers the first mode more than a storey factor can"
                            for b, sig in signature.items() if sig["z"] > Z_ROCKING)
         on = f" on top of {st.prev.name}" if st.prev.name else ""
+        if st.gain < NE_GAIN and len(steps) > 1:  # on trial alone, named with the physics found on top of it
+            on += f" (under {NE_GAIN:.0%} alone: named together with {steps[1].name})"
         out.append({"physics": st.name, "evidence": f"{hyp.what}: adding it{on} lowers the mean NE from "
                     f"{before:.4f} to {st.fit.ne_mean_after:.4f} ({st.gain:.0%}) and the information "
                     f"criterion by {st.prev.bic - st.bic:.0f} (n_eff {n_eff:.0f}){seen}; expected signature: "
                     f"{hyp.signature}",
                     "share": (before - st.fit.ne_mean_after) / total if total > 0 else 1.0,
+                    **({"together_with": steps[1].name} if st.gain < NE_GAIN and len(steps) > 1 else {}),
                     "probability": round(st.probability, 4), "quantities": quantities(st.name, st.fit)})
         defining = [q for q in out[-1]["quantities"] if q.get("defining")]
         if defining and all(q.get("stderr") is None for q in defining):

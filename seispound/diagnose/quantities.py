@@ -203,8 +203,8 @@ def _rods(fit, data):
 
         out.append(_delta(fit, f"{name}: first axial frequency of a floor", "Hz", first, paths, defining=True))
         if centre in fit.parameters:
-            out.append(_delta(fit, f"{name}: floors' centre of mass from the left face", "length",
-                              lambda x, c=centre: x[c], [centre]))
+            what = f"{name}: floors' centre of mass, a fraction of the length from the left face"
+            out.append(_delta(fit, what, "-", lambda x, c=centre: x[c], [centre]))
     mass = "building.*.floor_model.attachment.mass"
     for name in _buildings(data):
         joint = f"building.{name}.floor_model.attachment.joint_stiffness"

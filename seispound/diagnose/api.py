@@ -473,7 +473,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     accepted, entries = _judge(outcomes, ref, n, n_eff, say, offset=offset)
     tried.update(_reported(entries))
     steps = []
-    partial = not accepted and _partial(entries, ref)
+    partial = not accepted and _partial(entries)
     if accepted or partial:
         first_step = accepted[0] if accepted else partial
         first_step.probability = _posterior(entries, first_step.name)
@@ -1022,7 +1022,7 @@ def _reported(entries) -> dict:
     return {name: {k: v for k, v in e.items() if k != "step"} for name, e in entries.items()}
 
 
-def _partial(entries, ref):
+def _partial(entries):
     """The physics taken on trial when none is accepted alone: the best BIC among those that beat the base by
     BIC_MARGIN, lower its NE, and beat every wrong-parameter alternative fitted beside them by the same margin
     and by the NE; a _Step, or None."""
@@ -1098,14 +1098,15 @@ def _left_out(steps, base_fit, n_eff, signature) -> list:
                            "flexibility that lowers the first mode more than a storey factor can"
                            for b, sig in signature.items() if sig["z"] > Z_ROCKING)
         on = f" on top of {st.prev.name}" if st.prev.name else ""
-        if st.gain < NE_GAIN and len(steps) > 1:  # on trial alone, named with the physics found on top of it
-            on += f" (under {NE_GAIN:.0%} alone: named together with {steps[1].name})"
+        together = steps[1].name if st.gain < NE_GAIN and len(steps) > 1 else None  # on trial alone (_partial)
+        if together:
+            on += f" (under {NE_GAIN:.0%} alone: named together with {together})"
         out.append({"physics": st.name, "evidence": f"{hyp.what}: adding it{on} lowers the mean NE from "
                     f"{before:.4f} to {st.fit.ne_mean_after:.4f} ({st.gain:.0%}) and the information "
                     f"criterion by {st.prev.bic - st.bic:.0f} (n_eff {n_eff:.0f}){seen}; expected signature: "
                     f"{hyp.signature}",
                     "share": (before - st.fit.ne_mean_after) / total if total > 0 else 1.0,
-                    **({"together_with": steps[1].name} if st.gain < NE_GAIN and len(steps) > 1 else {}),
+                    **({"together_with": together} if together else {}),
                     "probability": round(st.probability, 4), "quantities": quantities(st.name, st.fit)})
         defining = [q for q in out[-1]["quantities"] if q.get("defining")]
         if defining and all(q.get("stderr") is None for q in defining):

@@ -285,6 +285,7 @@ def calibrate_observer(observer, params, progress=True, max_evaluations=None, wr
         corr = cov_y / np.outer(sd_y, sd_y)
     out = {}
     blind = _not_identified(fit.jac, [p.path for p in params], observer)
+    blind.update(force_scale(observer, params, base_values, first[0]))
     for k, p in enumerate(params):
         sd = xs[k] * sd_y[k] if p.log else sd_y[k]
         at_bound = ended_at_bound(a[k] + b[k] * fit.x[k], lo[k], hi[k], fit.active_mask[k])
@@ -344,6 +345,49 @@ def noise_ne(observer) -> float:
 
     vals = [channel_noise_ne(t.recording.data[c.id]) for t in observer.trials for c in observer.channels]
     return float(np.mean(vals)) if vals else float("nan")
+
+
+# the last key of a path that holds a mass, an inertia, a stiffness or a dashpot's constant: what carries a
+# model's force scale (the contact's stiffness too); a candidate only, the simulation decides (force_scale)
+_FORCE_KEYS = ("floor_masses", "storey_stiffness", "mass", "rotary_inertia", "floor_rotary_inertia",
+               "sway_stiffness", "sway_damping", "rocking_stiffness", "rocking_damping", "axial_stiffness")
+SCALE_TRIAL = 1.25  # the factor the force-scale check multiplies its candidates by
+SCALE_SAME = 1e-9  # no channel moving by more than this fraction of its peak: the same recording
+
+
+def force_scale(observer, params, base_values, sims0) -> dict:
+    """{path: why} for the fitted paths that together hold the model's force scale, or {} if they do not.
+
+    Recordings of motion carry no force scale.  Multiply every mass, inertia, stiffness and dashpot
+    constant of a model by one factor c, and its equations of motion become c (M a + C v + K u + f(u, v))
+    = -c M iota a_g: the same equations, since M, C, K and every contact law are homogeneous of degree one
+    in them (a Rayleigh ratio, e, a gap and a yield drift are not scaled; Hertz's and the Hertzdamp's
+    k delta^(3/2) (1 + ...) scale with k).  Derived here from the equations of motion, not read.  So when
+    the fitted parameters include every quantity that carries the model's force scale, scaling them all
+    together changes no recorded channel: only their ratios are seen, and least squares wanders along
+    that line.  Whether they do is decided by a simulation, not a list: every fitted path whose last key
+    names a mass, an inertia, a stiffness or a dashpot's constant (``_FORCE_KEYS``, and contact.stiffness)
+    multiplied by SCALE_TRIAL at its start, the direction reported if no channel of any trial moves by
+    more than SCALE_SAME of its peak from ``sims0`` (the simulation at the start).  Checked only when the
+    masses of every building are among them (else a building's masses hold the scale).
+    """
+    model = observer.model_data
+    paths = [p.path for p in params]
+    buildings = [b.get("name") for b in model.get("building", [])]
+    if not buildings or any(f"building.{b}.floor_masses" not in paths for b in buildings):
+        return {}
+    scaled = [p for p in params if p.path == "contact.stiffness" or p.path.rsplit(".", 1)[-1] in _FORCE_KEYS]
+    start = {p.path: p.value_at(base_values[p.path], p.start) for p in params}
+    over = [(p.path, p.value_at(base_values[p.path], p.start * SCALE_TRIAL) if p in scaled else start[p.path])
+            for p in params]
+    for s1, s0 in zip(observer.simulate(over), sims0):
+        for cid, x in s0.items():
+            if not np.max(np.abs(s1[cid] - x)) <= SCALE_SAME * max(np.max(np.abs(x)), 1e-300):
+                return {}
+    names = [p.path for p in scaled]
+    return {q: ("sets the force scale with " + ", ".join(n for n in names if n != q) + ": scaling them all by one "
+                "factor changes no recorded channel (recordings of motion carry no force scale), so only their "
+                "ratios are fitted; hold one of them as given") for q in names}
 
 
 def _not_identified(J, paths, observer) -> dict:

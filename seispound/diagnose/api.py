@@ -81,6 +81,7 @@ class Diagnosis:
     kept_as_given: bool = False  # no fitted model beat the model as given, which is kept
     recalibrated_factors: list = field(default_factory=list)  # the recalibrated paths that are factors on a list
     wrong_parameters: list = field(default_factory=list)  # parameters wrong beyond recalibration's span, refitted
+    held: dict = field(default_factory=dict)  # {path: why}: base parameters held as given (the force scale)
 
     def report(self) -> dict:
         return {"mismatch": self.mismatch, "left_out": self.left_out, "recalibrated": self.recalibrated,
@@ -90,7 +91,8 @@ class Diagnosis:
                 "augmented_model": self.augmented_model, "numerics": self.numerics,
                 "signature": self.signature, "hypotheses": self.hypotheses, "seconds": self.seconds,
                 "verdict": self.verdict, "instrument_fault": self.instrument_fault,
-                "kept_as_given": self.kept_as_given, "wrong_parameters": self.wrong_parameters}
+                "kept_as_given": self.kept_as_given, "wrong_parameters": self.wrong_parameters,
+                "held_as_given": self.held}
 
     def summary(self) -> str:
         lines = [f"diagnosis in {self.seconds:.0f} s: NE (mean over channels) {self.ne_before:.4f} (base model as "
@@ -114,6 +116,8 @@ class Diagnosis:
         for path, v in self.recalibrated.items():
             what = " (a factor on the model's list)" if path in self.recalibrated_factors else ""
             lines.append(f"  recalibrated {path} = {v:.6g}{what}")
+        for path, why in self.held.items():
+            lines.append(f"  held as given: {path} ({why})")
         for m in self.mismatch[:3]:
             lines.append(f"  mismatch: {m['channel']} holds {m['residual_share']:.0%} of the residual, most in "
                          f"{m['t_start']:.1f}-{m['t_end']:.1f} s ({m['impacts_in_window']} impacts in it; "
@@ -127,22 +131,13 @@ def _recalibrate(data, params, base, chans, trial_list, max_evaluations, noise_n
     hypotheses' step; if that leaves the misfit above 1.5 times the noise's NE, fitted again from the best
     STARTS points of a Sobol scan (``_scan_starts``) and the best kept: wrong parameters also have local
     minima."""
-    from dataclasses import replace
-
-    from ..calibrate.fit import calibrate_observer
     from ..calibrate.observe import Observer
     from ..model.paths import get_value
 
     obs = Observer(data, base, chans, trial_list)
 
     def fit_from(starts):
-        ps = [replace(p, start=min(max(starts.get(p.path, p.start), p.lo), p.hi)) for p in params]
-        fit = calibrate_observer(obs, ps, progress=False, max_evaluations=max_evaluations, tolerance=TOLERANCE)
-        again = [replace(p, start=min(max(fit.parameters[p.path]["value"], p.lo), p.hi)) for p in params]
-        polished = calibrate_observer(obs, again, progress=False, max_evaluations=SHORT * (len(params) + 1),
-                                      tolerance=TOLERANCE,
-                                      step_fraction=STEP)
-        return polished if polished.ne_mean_after < fit.ne_mean_after else fit
+        return _base_fit_from(obs, params, starts, max_evaluations)
 
     best = fit_from({})
     if best.ne_mean_after <= 1.5 * noise_ne:
@@ -156,6 +151,51 @@ def _recalibrate(data, params, base, chans, trial_list, max_evaluations, noise_n
         other = fit_from(starts)
         best = other if other.ne_mean_after < best.ne_mean_after else best
     return best
+
+
+def _base_fit_from(obs, params, starts, max_evaluations):
+    """The base parameters fitted through ``obs`` from ``starts`` ({path: value}; the model's values where
+    absent), then polished with the hypotheses' step: the better of the two CalibrationResults."""
+    from dataclasses import replace
+
+    from ..calibrate.fit import calibrate_observer
+
+    ps = [replace(p, start=min(max(starts.get(p.path, p.start), p.lo), p.hi)) for p in params]
+    fit = calibrate_observer(obs, ps, progress=False, max_evaluations=max_evaluations, tolerance=TOLERANCE)
+    again = [replace(p, start=min(max(fit.parameters[p.path]["value"], p.lo), p.hi)) for p in params]
+    polished = calibrate_observer(obs, again, progress=False, max_evaluations=SHORT * (len(params) + 1),
+                                  tolerance=TOLERANCE, step_fraction=STEP)
+    return polished if polished.ne_mean_after < fit.ne_mean_after else fit
+
+
+def _base_from_physics(data, params, base, chans, trial_list, max_evaluations, step, base_fit):
+    """The base model refitted from the base parameters' values in ``step``'s fit (a physics fitted jointly with
+    them), with the base's own parameters that the physics replaced (a constant e under an e(v)) from the
+    recalibration: a CalibrationResult if it is better than ``base_fit``, else None.
+
+    The recalibration is a fit on a rough surface and can stop in a basin that a physics's joint fit leaves:
+    on a wrong constant e (held-out case-016 of seed 9157, used afterwards for development) the recalibration
+    stopped at NE 0.049, 4.3 times the noise, with the gaps 2 % and the contact 5 % off, while an e(v) fitted
+    with the base parameters found them at the truth and an e that hardly changes with the impact velocity
+    (0.632 to 0.648) at NE 0.011.  A physics is credited only with what the base model cannot do from the same
+    place."""
+    from ..calibrate.observe import Observer
+    from ..model.paths import get_value
+
+    obs = Observer(data, base, chans, trial_list)
+    starts = {p.path: base_fit.parameters[p.path]["value"] for p in params}
+    starts.update({p.path: step.fit.parameters[p.path]["value"] for p in params if p.path in step.fit.parameters})
+    reduce = HYPOTHESES[step.name].reduce
+    if reduce is not None:  # the base's own values nearest the fitted form: the best of its candidates starts
+        recs = [{c.id: t.recording.data[c.id] for c in chans} for t in trial_list]
+        scored = []
+        for k, near in enumerate(reduce(tomllib.loads(step.fit.model_text))):
+            at = {**starts, **{q: v for q, v in near.items() if q in starts}}
+            over = [(p.path, p.value_at(get_value(data, p.path), at[p.path])) for p in params]
+            scored.append((_sum_ne2(obs.simulate(over), recs), k, at))
+        starts = min(scored)[2] if scored else starts
+    again = _base_fit_from(obs, params, starts, max_evaluations)
+    return again if again.ne_mean_after < base_fit.ne_mean_after else None
 
 
 def _scan_starts(params) -> list[dict]:
@@ -337,6 +377,31 @@ def _base_specs(data) -> list:
     return specs
 
 
+def _scale_held(data, params, base, chans, trial_list) -> dict:
+    """{path: why} for the one building's masses held as given when the recalibration's parameters hold the
+    model's force scale, or {}.
+
+    A mass factor per building, the storey stiffnesses and the contact's stiffness span a direction that no
+    recording of motion sees (``calibrate.fit.force_scale``: all scaled by one factor, the same recording to
+    1e-13 on the bundled pair).  Fitted together, least squares wanders along it: a wrong constant e whose
+    recalibration ended at 2.6 times the noise with every mass and storey stiffness 1.18-1.21 times its value
+    and the contact 1.15 (held-out case-016 of seed 9157) was then fitted by an e(v).  The first building's
+    masses set the scale; the others' are fitted relative to them."""
+    from ..calibrate.fit import force_scale
+    from ..calibrate.observe import Observer
+    from ..model.paths import get_value
+
+    obs = Observer(data, base, chans, trial_list)
+    base_values = {p.path: get_value(data, p.path) for p in params}
+    flat = force_scale(obs, params, base_values, obs.simulate([]))
+    if not flat:
+        return {}
+    path = f"building.{data['building'][0]['name']}.floor_masses"
+    return {path: "its masses set the force scale, which recordings of motion do not carry: with every "
+                  "building's masses, the storey stiffnesses and the contact's stiffness free, scaling them all "
+                  "by one factor changes no channel; the other buildings' masses are fitted relative to it"}
+
+
 def _number(x) -> bool:
     return isinstance(x, (int, float)) and not isinstance(x, bool)
 
@@ -407,6 +472,10 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     say(f"numerics: NE against half the step {ne_num:.2g} ({'sufficient' if sufficient else 'refined'})")
     # 2. the base model recalibrated
     base_params = parse_fit(_base_specs(data), data)
+    held = _scale_held(data, base_params, base, chans, trial_list)
+    base_params = [p for p in base_params if p.path not in held]
+    for path, why in held.items():
+        say(f"{path}: held as given ({why})")
     noise_ne = float(np.mean([_noise_ne(t, c.id) for t in trial_list for c in chans]))
     base_fit = _recalibrate(data, base_params, base, chans, trial_list, max_evaluations, noise_ne)
     recal = tomllib.loads(base_fit.model_text)
@@ -471,6 +540,18 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
         offset = len(joint)
     ref = _Step(None, base_fit, bic_base, len(base_params))
     accepted, entries = _judge(outcomes, ref, n, n_eff, say, offset=offset)
+    lead = accepted[0] if accepted else _partial(entries)
+    if lead is not None and lead.name in HYPOTHESES:
+        # the base model refitted from where the leading physics's fit left the base parameters, and the round
+        # judged again against it: a physics is credited only with what the base cannot do from the same place
+        again = _base_from_physics(data, base_params, base, chans, trial_list, max_evaluations, lead, base_fit)
+        if again is not None:
+            say(f"base parameters refitted from {lead.name}'s values: NE {base_fit.ne_mean_after:.4f} -> "
+                f"{again.ne_mean_after:.4f}")
+            base_fit = again
+            bic_base = n_eff * math.log(_rss(base_fit) / n) + len(base_params) * math.log(n_eff)
+            ref = _Step(None, base_fit, bic_base, len(base_params))
+            accepted, entries = _judge(outcomes, ref, n, n_eff, say, offset=offset)
     tried.update(_reported(entries))
     steps = []
     partial = not accepted and _partial(entries)
@@ -544,7 +625,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
                                              for cid in nes0[k]} for k, t in enumerate(trial_list)},
                        signature=signature, verdict=verdict, instrument_fault=fault, kept_as_given=kept_as_given,
                        recalibrated_factors=[p for p, v in base_fit.parameters.items() if v["factor"]],
-                       wrong_parameters=wrong)
+                       wrong_parameters=wrong, held=held)
     if written is not None:
         Path(written).write_text(text, encoding="utf-8")
     if figure is not None:

@@ -14,7 +14,7 @@ import sys
 import pytest
 
 from seispound.calibrate import calibrate
-from tests.verification.test_calibration_synthetic import TRUE, _model, _recordings
+from tests.verification.test_calibration_synthetic import TRUE, M, _model, _recordings
 
 FIT = ["building.A.storey_stiffness", "building.B.storey_stiffness", "gap.1.size", "building.A.damping.ratio",
        "building.B.damping.ratio"]
@@ -81,3 +81,27 @@ def test_a_fit_stopped_at_its_cap_says_so_and_the_cli_exits_3_writing_nothing(fo
     assert "stopped at --max-evaluations 4 before converging" in proc.stderr and len(proc.stderr.splitlines()) == 1
     proc = subprocess.run(args + ["--allow-unconverged"], capture_output=True, text=True)
     assert proc.returncode == 0 and out.exists()
+
+
+SCALE = ["building.A.storey_stiffness", "building.B.storey_stiffness", "building.A.floor_masses",
+         "building.B.floor_masses", "contact.stiffness"]
+
+
+def test_masses_storeys_and_contact_stiffness_together_hold_a_force_scale_the_data_cannot_see(folder):
+    # every mass, storey stiffness and the contact's stiffness free: scaling them all by one factor changes no
+    # recorded acceleration (calibrate.fit.force_scale), so none of them is identified alone
+    model = _off(folder, "scale.toml", 1.0, 1.0)
+    res = calibrate(model, [folder / "recording.mseed"], channels=folder / "channels.toml", fit=SCALE,
+                    progress=False, starts=0, max_evaluations=60)
+    for path in SCALE:
+        p = res.parameters[path]
+        assert not p["identified"] and math.isinf(p["stderr"]), path
+        assert p["reason"].startswith("sets the force scale with")
+    assert "recordings of motion carry no force scale" in res.summary()
+    # A's masses held as given: the rest is identified, and B's masses come out as the truth's (equal to A's)
+    held = calibrate(model, [folder / "recording.mseed"], channels=folder / "channels.toml",
+                     fit=[p for p in SCALE if p != "building.A.floor_masses"], progress=False, starts=0)
+    mB = held.parameters["building.B.floor_masses"]
+    print(f"MEASURED B's floor mass with A's held: {mB['value']:.1f} +- {mB['stderr']:.1f} kg (truth {M:g})")
+    assert all(p["identified"] and math.isfinite(p["stderr"]) for p in held.parameters.values())
+    assert abs(mB["value"] - M) < 3.0 * mB["stderr"]  # measured 1.2 standard errors off

@@ -28,6 +28,10 @@ class Hypothesis:
         ``why_not(table)``: why the physics cannot apply to a model, or None when it can.
     alternative : bool
         A wrong-parameter form fitted beside the physics (it explains a misfit without naming a physics).
+    reduce : callable, optional
+        ``reduce(fitted_table)``: the base model's own values nearest a fitted form, as candidates
+        ``[{PATH: value}, ...]`` for the base parameters that the form replaced (a constant e for an e(v)):
+        where the base model is refitted from the physics's fit (``api._base_from_physics``).
     """
 
     name: str
@@ -36,6 +40,7 @@ class Hypothesis:
     forms: tuple = ()
     why_not: Callable | None = None
     alternative: bool = False
+    reduce: Callable | None = None
 
     def applies(self, data: dict) -> str | None:
         """Why this physics cannot apply to the model file's table ``data``, or None when it can."""

@@ -37,8 +37,21 @@ def _constant_e(d):
     return float(e) if isinstance(e, (int, float)) else 0.65
 
 
+# impact velocities at which a fitted e(v) is read as a constant e: storeys close at 0.05-1 m/s
+NEAREST_VELOCITIES = (0.1, 0.2, 0.3, 0.5, 0.7, 1.0)
+
+
+def _nearest_constant(table) -> list[dict]:
+    # the constant e nearest a fitted e(v): its value at each of the impact velocities above, one candidate each
+    from ...contact.restitution import restitution_from
+
+    law = restitution_from(table["contact"]["restitution"], "contact.restitution")
+    return [{"contact.restitution": float(law(v))} for v in NEAREST_VELOCITIES]
+
+
 HYPOTHESIS = Hypothesis(
     "velocity-dependent-restitution", "a coefficient of restitution that changes with the impact velocity",
     "residual concentrated in the impacts, their rebound velocities wrong in opposite directions for strong "
     "and weak impacts",
-    forms=(_velocity_restitution, _exponential_restitution, _power_restitution), why_not=needs_gaps("whose restitution could vary"))
+    forms=(_velocity_restitution, _exponential_restitution, _power_restitution), why_not=needs_gaps("whose restitution could vary"),
+    reduce=_nearest_constant)

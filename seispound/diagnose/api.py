@@ -173,6 +173,10 @@ def _base_from_physics(data, params, base, chans, trial_list, max_evaluations, s
     them), with the base's own parameters that the physics replaced (a constant e under an e(v)) from the
     recalibration: a CalibrationResult if it is better than ``base_fit``, else None.
 
+    Where the physics's hypothesis has a ``reduce``, those replaced parameters start instead at the best (one
+    simulation each) of the base values nearest the fitted form (for an e(v), its value at several impact
+    velocities).
+
     The recalibration is a fit on a rough surface and can stop in a basin that a physics's joint fit leaves:
     on a wrong constant e (held-out case-016 of seed 9157, used afterwards for development) the recalibration
     stopped at NE 0.049, 4.3 times the noise, with the gaps 2 % and the contact 5 % off, while an e(v) fitted
@@ -541,6 +545,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     ref = _Step(None, base_fit, bic_base, len(base_params))
     accepted, entries = _judge(outcomes, ref, n, n_eff, say, offset=offset)
     lead = accepted[0] if accepted else _partial(entries)
+    refitted = None
     if lead is not None and lead.name in HYPOTHESES:
         # the base model refitted from where the leading physics's fit left the base parameters, and the round
         # judged again against it: a physics is credited only with what the base cannot do from the same place
@@ -548,6 +553,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
         if again is not None:
             say(f"base parameters refitted from {lead.name}'s values: NE {base_fit.ne_mean_after:.4f} -> "
                 f"{again.ne_mean_after:.4f}")
+            refitted = {"from": lead.name, "ne_before": base_fit.ne_mean_after, "ne": again.ne_mean_after}
             base_fit = again
             bic_base = n_eff * math.log(_rss(base_fit) / n) + len(base_params) * math.log(n_eff)
             ref = _Step(None, base_fit, bic_base, len(base_params))
@@ -577,6 +583,8 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
             second = None  # a physics on trial is named beside another physics, not beside wrong parameters
         if second is not None:
             steps.append(second)
+        if partial:
+            tried[first_step.name]["on_trial"] = True
         if partial and second is None:
             say(f"{first_step.name}: no second physics on top of it; alone it lowered the NE by under "
                 f"{NE_GAIN:.0%}, so it is not named")
@@ -620,7 +628,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     result = Diagnosis(mismatch=mismatch, left_out=left_out,
                        recalibrated={p: v["value"] for p, v in base_fit.parameters.items()},
                        ne_before=ne_before, ne_after=ne_after, augmented_model=written, model_text=text,
-                       numerics=numerics, hypotheses=tried, seconds=time.perf_counter() - t0, noise_ne=noise_ne,
+                       numerics={**numerics, **({"base_refitted": refitted} if refitted else {})}, hypotheses=tried, seconds=time.perf_counter() - t0, noise_ne=noise_ne,
                        ne_channels={t.name: {cid: {"before": nes0[k][cid], "after": ne_final[t.name].get(cid)}
                                              for cid in nes0[k]} for k, t in enumerate(trial_list)},
                        signature=signature, verdict=verdict, instrument_fault=fault, kept_as_given=kept_as_given,

@@ -65,6 +65,7 @@ def test_a_physics_on_trial_is_named_together_with_the_second(two_effects, monke
     assert res.left_out[0]["together_with"] == "velocity-dependent-restitution"
     assert "together_with" not in res.left_out[1]
     assert rep["hypotheses"]["spatially-varying-input"]["named_with"] == "velocity-dependent-restitution"
+    assert rep["hypotheses"]["spatially-varying-input"]["on_trial"] is True
     assert list(rep["held_as_given"]) == ["building.A.floor_masses"]  # the force scale (api._scale_held)
     assert "building.A.floor_masses" not in res.recalibrated and "building.B.floor_masses" in res.recalibrated
     assert res.ne_after < 1.6 * res.noise_ne  # measured 1.34
@@ -77,6 +78,6 @@ def test_a_physics_on_trial_without_a_second_is_not_named(two_effects, monkeypat
           f"{res.ne_after:.4f}; {sorted(trial)}")
     assert res.left_out == []
     assert "on_top_of_spatially-varying-input" in rep["hypotheses"]["velocity-dependent-restitution"]
-    assert not trial.get("accepted")
+    assert not trial.get("accepted") and trial["on_trial"] is True
     assert res.ne_after <= res.ne_before
     assert res.ne_after > 3 * res.noise_ne  # the recalibrated base's misfit, not the physics on trial's

@@ -142,7 +142,7 @@ def _recalibrate(data, params, base, chans, trial_list, max_evaluations, noise_n
     best = fit_from({})
     if best.ne_mean_after <= 1.5 * noise_ne:
         return best
-    recs = [{c.id: t.recording.data[c.id] for c in chans} for t in trial_list]
+    recs = _recorded(chans, trial_list)
     scored = []
     for starts in _scan_starts(params):
         over = [(p.path, p.value_at(get_value(data, p.path), starts[p.path])) for p in params]
@@ -191,7 +191,7 @@ def _base_from_physics(data, params, base, chans, trial_list, max_evaluations, s
     starts.update({p.path: step.fit.parameters[p.path]["value"] for p in params if p.path in step.fit.parameters})
     reduce = HYPOTHESES[step.name].reduce
     if reduce is not None:  # the base's own values nearest the fitted form: the best of its candidates starts
-        recs = [{c.id: t.recording.data[c.id] for c in chans} for t in trial_list]
+        recs = _recorded(chans, trial_list)
         scored = []
         for k, near in enumerate(reduce(tomllib.loads(step.fit.model_text))):
             at = {**starts, **{q: v for q, v in near.items() if q in starts}}
@@ -332,7 +332,7 @@ def _joint_soil(recal, base_params, signature, base, chans, trial_list, max_eval
         params = parse_fit(specs + [p.path + f"={p.lo}:{p.hi}" for p in base_params], joint)
         params = [replace(p, start=min(max(starts.get(p.path, p.start), p.lo), p.hi)) for p in params]
         obs = Observer(joint, base, chans, trial_list)
-        recs = [{c.id: t.recording.data[c.id] for c in chans} for t in trial_list]
+        recs = _recorded(chans, trial_list)
         from ..model.paths import get_value
 
         scored = []
@@ -387,10 +387,10 @@ def _scale_held(data, params, base, chans, trial_list) -> dict:
 
     A mass factor per building, the storey stiffnesses and the contact's stiffness span a direction that no
     recording of motion sees (``calibrate.fit.force_scale``: all scaled by one factor, the same recording to
-    1e-13 on the bundled pair).  Fitted together, least squares wanders along it: a wrong constant e whose
-    recalibration ended at 2.6 times the noise with every mass and storey stiffness 1.18-1.21 times its value
-    and the contact 1.15 (held-out case-016 of seed 9157) was then fitted by an e(v).  The first building's
-    masses set the scale; the others' are fitted relative to them."""
+    6e-13 of each channel's peak on the bundled pair).  Fitted together, least squares wanders along it: a
+    wrong constant e whose recalibration ended at 2.6 times the noise with every mass and storey stiffness
+    1.18-1.21 times its value and the contact 1.15 (held-out case-016 of seed 9157) was then fitted by an
+    e(v).  The first building's masses set the scale; the others' are fitted relative to them."""
     from ..calibrate.fit import force_scale
     from ..calibrate.observe import Observer
     from ..model.paths import get_value
@@ -628,7 +628,8 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     result = Diagnosis(mismatch=mismatch, left_out=left_out,
                        recalibrated={p: v["value"] for p, v in base_fit.parameters.items()},
                        ne_before=ne_before, ne_after=ne_after, augmented_model=written, model_text=text,
-                       numerics={**numerics, **({"base_refitted": refitted} if refitted else {})}, hypotheses=tried, seconds=time.perf_counter() - t0, noise_ne=noise_ne,
+                       numerics={**numerics, **({"base_refitted": refitted} if refitted else {})},
+                       hypotheses=tried, seconds=time.perf_counter() - t0, noise_ne=noise_ne,
                        ne_channels={t.name: {cid: {"before": nes0[k][cid], "after": ne_final[t.name].get(cid)}
                                              for cid in nes0[k]} for k, t in enumerate(trial_list)},
                        signature=signature, verdict=verdict, instrument_fault=fault, kept_as_given=kept_as_given,
@@ -976,7 +977,7 @@ def _best_candidates(aug, specs, base, chans, trial_list, bases=({},), anchors=(
         groups.setdefault(tied, []).append((path, lo, hi))  # one point of the scan each, at its own bounds
     pts = qmc.Sobol(len(groups), scramble=True, seed=2026).random(CANDIDATES)
     obs = Observer(aug, base, chans, trial_list)
-    recs = [{c.id: t.recording.data[c.id] for c in chans} for t in trial_list]
+    recs = _recorded(chans, trial_list)
     scored = []
     points = [(k, {**b, **{p: (lo * (hi / lo) ** x if lo > 0 else lo + x * (hi - lo))
                            for members, x in zip(groups.values(), u) for p, lo, hi in members}})
@@ -1045,6 +1046,11 @@ def _polish(texts, specs, both, base, chans, trial_list, max_evaluations, every_
         if joint.ne_mean_after < best.ne_mean_after:
             best = joint
     return best
+
+
+def _recorded(chans, trial_list) -> list[dict]:
+    """Per trial, {channel id: recorded samples} for ``chans``: what a simulation's channels are compared with."""
+    return [{c.id: t.recording.data[c.id] for c in chans} for t in trial_list]
 
 
 def _sum_ne2(sims, recs) -> float:

@@ -53,5 +53,5 @@ HYPOTHESIS = Hypothesis(
     "velocity-dependent-restitution", "a coefficient of restitution that changes with the impact velocity",
     "residual concentrated in the impacts, their rebound velocities wrong in opposite directions for strong "
     "and weak impacts",
-    forms=(_velocity_restitution, _exponential_restitution, _power_restitution), why_not=needs_gaps("whose restitution could vary"),
-    reduce=_nearest_constant)
+    forms=(_velocity_restitution, _exponential_restitution, _power_restitution),
+    why_not=needs_gaps("whose restitution could vary"), reduce=_nearest_constant)

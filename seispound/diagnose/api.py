@@ -40,6 +40,7 @@ import numpy as np
 from .._blas import single_threaded
 from .hypotheses import ALTERNATIVES, HYPOTHESES
 from .locate import locate, noise_ne as channel_noise_ne
+from .polish_order import PolishOrder
 from .signature import (
     BAND,
     Z_ROCKING,
@@ -540,7 +541,8 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
         recal_values = {p.path: get_value(recal, p.path) for p in base_params}
         # a list: judged here, and read again by the instrument-fault test ("under every hypothesis fitted")
         outcomes = list(_fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, base_fit.ne_mean_after,
-                                 joint=joint, alt=recal_values, say=say, n_eff=n_eff, context=context))
+                                 joint=joint, alt=recal_values, say=say, n_eff=n_eff, context=context,
+                                 explained=EXPLAINED * noise_ne))
         offset = len(joint)
     ref = _Step(None, base_fit, bic_base, len(base_params))
     accepted, entries = _judge(outcomes, ref, n, n_eff, say, offset=offset)
@@ -655,7 +657,7 @@ STEP = 1e-3  # finite-difference step, a fraction of each parameter's (log-)rang
 
 
 def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_base, joint=(), alt=None,
-             say=lambda msg: None, n_eff=None, context=None):
+             say=lambda msg: None, n_eff=None, context=None, explained=None):
     """Yield (name, (fit, number of the hypothesis's own parameters, whether it was polished) or an error
     string) per hypothesis, fitted in parallel processes.
 
@@ -672,6 +674,8 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
     keeps its form with the best information criterion at the effective sample size ``n_eff``, where
     given.  ``say`` reports each task as it ends (progress through the longest phase of a diagnosis).
     ``context`` (:class:`~seispound.diagnose.hypotheses.Context`) goes to the forms that read the recording.
+    ``explained`` (the NE at which a fit explains the data: EXPLAINED times the noise's NE) lets polishes that
+    can no longer change what is named be left out (``polish_order.PolishOrder``); None: every polish is used.
     """
     import heapq
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -685,19 +689,40 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
 
     def run(tag, f, *a):
         heapq.heappush(queue, (rank[tag[1][0]], next(count), tag, f, a))
-        while queue and (not pool or len(pending) < workers):
-            _, _, t, g, args = heapq.heappop(queue)
-            pending[pool.submit(g, *args) if pool else _Done(g(*args))] = t
+        dispatch()
+
+    def dispatch():
+        # the free workers take the starts and short fits first (the slowest hypotheses' first), then the polishes
+        # that ``order`` says may start, best short fit first: decided when a worker is free, so that what the
+        # screen and the polishes done have shown by then counts
+        while not pool or len(pending) < workers:
+            if queue:
+                _, _, t, g, args = heapq.heappop(queue)
+                pending[pool.submit(g, *args) if pool else _Done(g(*args))] = t
+                continue
+            form, dropped = order.next()
+            for f in dropped:
+                say(f"  {f[0]}, form {f[1] + 1} of {CANDIDATES_ALL[f[0]].variants}: not polished (a form "
+                    "ranked ahead of it explains the data)")
+            if form is None:
+                return
+            g, args = send_polish(form)
+            pending[pool.submit(g, *args) if pool else _Done(g(*args))] = ("polish", form)
 
     final, shorts, left, polished, anchored = {}, {form: [] for form in forms}, {}, set(), {}
     screen = {}  # each form's best short fit: what the screen ranks
+    short_fit = {}  # each form's best short fit and specs: its result where its polish is not needed
+    order = PolishOrder(screen, WITHIN, explained, ALTERNATIVES)
     origins = {}  # each form's best short fit from the nominal and from the recalibrated base values
     anchor_base = {}  # the base values (an ``origins`` key) a yielding form's anchored start stands on
     screened = False  # every short fit is in and the forms near the best were sent to be polished
     count = iter(range(1 << 30))
 
-    def polish(form):
+    def polish(form):  # the form is to be polished when a worker is free and ``order`` lets it start
         polished.add(form)
+        order.request(form)
+
+    def send_polish(form):  # (the task, its arguments) of the form's polish
         fit, specs = final[form]
         both = _compatible(joint, specs) + specs  # its own last: a storey's stiffness set after the list's factor
         # the best short fit from each set of base values, and from an anchor where that fits better than the
@@ -717,7 +742,7 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
         alternative = form[0] in ALTERNATIVES
         uncapped = alternative and bool(alt)
         budget = POLISH * (len(both) + 1) if uncapped else min(POLISH * (len(both) + 1), max_evaluations)
-        run(("polish", form), _polish, texts, specs, both, *common, budget, alternative, with_anchor)
+        return _polish, (texts, specs, both, *common, budget, alternative, with_anchor, explained)
     try:
         for form in forms:
             run(("starts", form), _starts, *form, data, alt, *common, context)
@@ -739,7 +764,7 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
                     left[form] -= 1
                     if left[form] == 0:
                         fit, specs, _ = min(shorts[form], key=lambda o: o[0].ne_mean_after)
-                        final[form] = (fit, specs)
+                        final[form] = short_fit[form] = (fit, specs)
                         origins[form] = {}
                         for f, _, st in sorted(shorts[form], key=lambda o: o[0].ne_mean_after):
                             on_alt = bool(alt) and any(k in st for k in alt)  # on the recalibrated base values
@@ -749,8 +774,10 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
                         screen[form] = fit.ne_mean_after
                         if fit.ne_mean_after < ne_base:
                             polish(form)
-                elif kind == "polish" and out.ne_mean_after <= final[form][0].ne_mean_after:  # it improved
-                    final[form] = (out, final[form][1])
+                if kind == "polish":
+                    order.done(form, out.ne_mean_after if not isinstance(out, str) else math.inf)
+                    if not isinstance(out, str) and out.ne_mean_after <= final[form][0].ne_mean_after:  # improved
+                        final[form] = (out, final[form][1])
                 if all(f in final for f in forms) and not screened:
                     # every short fit is in: a short fit may have started far from its optimum, so every
                     # form within WITHIN of the best short fit is polished too (none is dropped because
@@ -759,17 +786,20 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
                     # (judged on the short fits alone, never on polishes that happen to be done: the
                     # screen must not depend on which task a worker finished first)
                     fitted = [f for f in forms if f in screen]
+                    order.screened = True
                     if fitted:
                         best = min(screen[f] for f in fitted)
-                        for f in fitted:
+                        for f in sorted(fitted, key=screen.get):
                             if f not in polished and screen[f] <= WITHIN * best:
                                 polish(f)
-            while queue and len(pending) < workers:  # the freed workers take the next tasks
-                _, _, t, g, args = heapq.heappop(queue)
-                pending[pool.submit(g, *args)] = t
+            dispatch()
     finally:
         if pool:
             pool.shutdown()
+    for f in list(polished):  # a polish that ran but is not needed is not used: the outcome of the order alone
+        if order.needed(f) is False:
+            final[f] = short_fit[f]
+            polished.discard(f)
     for name in names:
         outs = [(final[f], f in polished) for f in forms if f[0] == name and f in final]
         fits = [(o, p) for o, p in outs if not isinstance(o, str)]
@@ -997,7 +1027,8 @@ def _best_candidates(aug, specs, base, chans, trial_list, bases=({},), anchors=(
     return [s[3] for s in (sorted(firsts) + rest)[:max(STARTS, len(firsts))]], [s[3] for s in sorted(anchored)[:1]]
 
 
-def _polish(texts, specs, both, base, chans, trial_list, max_evaluations, every_base=False, anchored=False):
+def _polish(texts, specs, both, base, chans, trial_list, max_evaluations, every_base=False, anchored=False,
+            enough=None):
     """The screened fits (model texts: a form's best short fit from the nominal base values and from the
     recalibrated ones) each fitted on to convergence in their own parameters (``specs``), then the better
     together with the ones already fitted (``both`` holds all), from there: each stage has its own budget
@@ -1009,7 +1040,8 @@ def _polish(texts, specs, both, base, chans, trial_list, max_evaluations, every_
     ``_best_candidates``) the joint stage also runs from that start's own fit: which own fit is best does
     not tell the basins apart either (development case 4104-006, pinched Clough storeys: the joint stage
     from the best own fit ended at 0.43, from the anchor's at 0.25).  A joint fit that cannot run leaves
-    the first stage's."""
+    the first stage's.  Once a stage fits to ``enough`` (the NE at which the data are explained, or None) the
+    stages that would start from other fits are left out: they look for a basin that the data no longer need."""
     import tomllib
     from dataclasses import replace
 
@@ -1022,6 +1054,10 @@ def _polish(texts, specs, both, base, chans, trial_list, max_evaluations, every_
                                   max_evaluations=budget, tolerance=TOLERANCE, step_fraction=STEP)
 
     owns, failed, last = [], [], None
+
+    def explains(f):
+        return enough is not None and f.ne_mean_after <= enough
+
     for k, text in enumerate(texts):
         start = tomllib.loads(text)
         try:
@@ -1029,6 +1065,9 @@ def _polish(texts, specs, both, base, chans, trial_list, max_evaluations, every_
             last = owns[-1] if anchored and k == len(texts) - 1 else last
         except Exception as exc:  # noqa: BLE001 (a stage that cannot run leaves the screened fit standing)
             failed.append(f"{type(exc).__name__}: {exc}")
+        if owns and explains(owns[-1]):
+            last = None
+            break
     if not owns:
         return "; ".join(failed)
     own = min(owns, key=lambda f: f.ne_mean_after)
@@ -1045,6 +1084,8 @@ def _polish(texts, specs, both, base, chans, trial_list, max_evaluations, every_
             continue
         if joint.ne_mean_after < best.ne_mean_after:
             best = joint
+        if explains(best):
+            break
     return best
 
 
@@ -1140,7 +1181,7 @@ def _second_round(first_step, rest, base, chans, trial_list, max_evaluations, jo
     fitted = [f"{q}={v['lo']!r}:{v['hi']!r}" for q, v in first_step.fit.parameters.items()]
     more, entries = _judge(_fit_all(rest, second, base, chans, trial_list, max_evaluations, jobs,
                                     first_step.fit.ne_mean_after, joint=fitted, say=say, n_eff=n_eff,
-                                    context=context),
+                                    context=context, explained=EXPLAINED * noise_ne),
                            first_step, n, n_eff, say, offset=max(first_step.p, len(fitted)))
     for name, entry in _reported(entries).items():
         tried.setdefault(name, {})["on_top_of_" + first_step.name] = entry

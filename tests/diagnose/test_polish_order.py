@@ -1,0 +1,137 @@
+"""Which polishes a diagnosis still needs once a physics explains the data (``diagnose.polish_order``).
+
+Regression guards of the rule's logic, on made-up short fits and polishes: the forms of one hypothesis are
+polished in the order of their short fits and a form ranked behind one that explains the data is not needed;
+a form whose short fit is over WITHIN times the best waits for the forms within WITHIN and is not needed when
+one of those physics explains the data; the outcome does not depend on which polish finished first; and
+``_fit_all`` with the rule leaves the polishes out, where without it every one runs.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from seispound.diagnose import api
+from seispound.diagnose.hypotheses import ALTERNATIVES, HYPOTHESES
+from seispound.diagnose.polish_order import PolishOrder
+
+AT = 0.015  # NE at which a polish explains the data (EXPLAINED 1.5 x a noise NE of 0.01)
+P, Q = sorted(HYPOTHESES)[:2]
+ALT = next(iter(ALTERNATIVES))
+
+
+def _order(screen, at=AT):
+    return PolishOrder(screen, api.WITHIN, at, ALTERNATIVES)
+
+
+def _start(order, *forms):
+    """Request the forms, then start what ``next`` gives: (started, dropped) in order."""
+    for f in forms:
+        order.request(f)
+    started, dropped = [], []
+    while True:
+        form, gone = order.next()
+        dropped += gone
+        if form is None:
+            return started, dropped
+        started.append(form)
+
+
+def test_without_a_noise_estimate_every_polish_starts_and_is_needed():
+    screen = {(P, 0): 0.4, (P, 1): 0.43, (Q, 0): 0.9}
+    order = _order(screen, at=None)
+    assert _start(order, *screen) == ([(P, 0), (P, 1), (Q, 0)], [])
+    for f in screen:
+        order.done(f, 0.01)
+    assert all(order.needed(f) for f in screen)
+
+
+@pytest.mark.parametrize("first_ne, needed", [(0.012, False), (0.02, True)], ids=["explains", "does-not"])
+def test_a_sibling_waits_for_the_better_ranked_form_and_is_left_out_when_it_explains(first_ne, needed):
+    screen = {(P, 0): 0.40, (P, 2): 0.43}
+    order = _order(screen)
+    assert _start(order, (P, 2), (P, 0)) == ([(P, 0)], [])  # (P, 2) waits: (P, 0) ranks ahead of it
+    order.done((P, 0), first_ne)
+    assert _start(order) == (([], [(P, 2)]) if not needed else ([(P, 2)], []))
+    assert order.needed((P, 2)) is needed
+
+
+def test_a_far_form_waits_for_the_screen_and_is_left_out_when_a_near_physics_explains():
+    screen = {(P, 0): 0.40}
+    order = _order(screen)
+    assert _start(order, (P, 0)) == ([(P, 0)], [])
+    screen[(Q, 0)] = 0.63  # over 1.5 x 0.40: polished only because it beat the recalibrated base
+    assert order.far((Q, 0)) and _start(order, (Q, 0)) == ([], [])
+    order.screened = True
+    assert _start(order) == ([], [])  # (P, 0) is still being polished
+    order.done((P, 0), 0.011)
+    assert _start(order) == ([], [(Q, 0)])
+    assert order.needed((Q, 0)) is False and order.needed((P, 0)) is True
+
+
+def test_an_alternative_that_fits_to_the_noise_does_not_stop_the_search():
+    screen = {(ALT, 0): 0.40, (ALT, 1): 0.41, (P, 0): 0.62}
+    order = _order(screen)
+    assert _start(order, (ALT, 0), (ALT, 1), (P, 0)) == ([(ALT, 0), (ALT, 1)], [])  # no sibling rule among them
+    order.screened = True
+    order.done((ALT, 0), 0.011)
+    order.done((ALT, 1), 0.012)
+    assert _start(order) == ([(P, 0)], [])  # the physics is still polished: wrong parameters do not explain
+
+
+def test_the_outcome_does_not_depend_on_which_polish_finished_first():
+    # (P, 1)'s short fit came in first and its polish ran; (P, 0)'s ranked ahead of it and explains
+    screen = {(P, 1): 0.50}
+    order = _order(screen)
+    assert _start(order, (P, 1)) == ([(P, 1)], [])
+    screen[(P, 0)] = 0.40
+    assert _start(order, (P, 0)) == ([(P, 0)], [])
+    order.done((P, 1), 0.010)
+    order.done((P, 0), 0.012)
+    order.screened = True
+    assert order.needed((P, 1)) is False  # the same as if (P, 1) had waited for (P, 0)
+
+
+def _fit(ne):
+    from types import SimpleNamespace
+
+    return SimpleNamespace(ne_mean_after=ne, parameters={}, evaluations=1, n=1000, residual_ss=ne * ne)
+
+
+@pytest.mark.parametrize("explained", [None, AT], ids=["every-polish", "explained"])
+def test_fit_all_leaves_out_the_polishes_the_data_no_longer_need(monkeypatch, explained):
+    # P's first form explains the data when polished; P's second form and Q (far) would polish closer still
+    shorts = {(P, 0): 0.40, (P, 1): 0.45, (Q, 0): 0.63}
+    polished = {(P, 0): 0.012, (P, 1): 0.011, (Q, 0): 0.0105}
+    calls = []
+
+    def starts(name, variant, *a):
+        if (name, variant) not in shorts:
+            return "not in this test"
+        return {}, [f"x.{name}.{variant}=1:2"], [{"form": (name, variant)}], []
+
+    def short(aug, specs, start, *common):
+        fit = _fit(shorts[start["form"]])
+        fit.model_text = repr(start["form"])
+        return fit, specs, start
+
+    def polish(texts, specs, both, base, chans, trial_list, budget, every_base=False, anchored=False,
+               enough=None):
+        form = eval(texts[0])  # noqa: S307 (the test's own repr)
+        calls.append(form)
+        return _fit(polished[form])
+
+    monkeypatch.setattr(api, "_starts", starts)
+    monkeypatch.setattr(api, "_short", short)
+    monkeypatch.setattr(api, "_polish", polish)
+    monkeypatch.setattr(api, "_rss", lambda fit: 1000 * fit.ne_mean_after ** 2)
+    out = dict(api._fit_all([P, Q], {}, None, [], [], 400, 1, ne_base=0.64, n_eff=1000, explained=explained))
+    if explained is None:
+        assert sorted(calls) == sorted(shorts)
+        assert out[P][0].ne_mean_after == 0.011 and out[Q][0].ne_mean_after == 0.0105
+    else:
+        # the serial path takes the slowest hypothesis first (COST_ORDER): Q's polish ran before P's short fits
+        # were in, and is not used; (P, 1) waited for (P, 0) and was left out
+        assert (P, 0) in calls and (P, 1) not in calls
+        assert out[P][0].ne_mean_after == 0.012 and out[P][2] is True
+        assert out[Q][0].ne_mean_after == 0.63 and out[Q][2] is False  # its short fit stands, not polished

@@ -704,6 +704,8 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
             for f in dropped:
                 say(f"  {f[0]}, form {f[1] + 1} of {CANDIDATES_ALL[f[0]].variants}: not polished (a form "
                     "ranked ahead of it explains the data)")
+            if form is None and pool:  # a worker that would idle: a waiting polish that may still be needed
+                form = order.speculate()
             if form is None:
                 return
             g, args = send_polish(form)
@@ -793,9 +795,12 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
                             if f not in polished and screen[f] <= WITHIN * best:
                                 polish(f)
             dispatch()
+            if pool and not queue and order.settled([t[1] for t in pending.values() if t[0] == "polish"]) and all(
+                    t[0] == "polish" for t in pending.values()):
+                break  # what runs is not needed (``PolishOrder.speculate``): not waited for
     finally:
         if pool:
-            pool.shutdown()
+            _stop(pool, wait=not pending)
     for f in list(polished):  # a polish that ran but is not needed is not used: the outcome of the order alone
         if order.needed(f) is False:
             final[f] = short_fit[f]
@@ -817,6 +822,15 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
             yield name, (fit, len(specs), was_polished)
         elif outs:
             yield name, outs[0][0]
+
+
+def _stop(pool, wait=True):
+    """Shut ``pool`` down; without ``wait``, its running tasks are not needed and its worker processes are killed
+    (``concurrent.futures`` cannot cancel a task once it runs)."""
+    procs = [] if wait else list(getattr(pool, "_processes", {}).values())
+    pool.shutdown(wait=wait, cancel_futures=not wait)
+    for proc in procs:
+        proc.kill()
 
 
 def _progress(say, kind, form, out, finished, total):

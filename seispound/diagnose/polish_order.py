@@ -12,10 +12,12 @@ longer change what is named:
   beat the recalibrated base), when a physics form within WITHIN explains the data.
 
 Those are not used, and not run where the order of the work lets them be skipped: a form waits while a sibling
-with a better short fit is being polished, and a far form waits until every form within WITHIN is polished.  What
-is used is decided on the short fits and on the polishes of the forms ranked ahead, never on which worker finished
-first, so the outcome is the same with one worker or several; a polish that ran but is not needed is discarded
-(its form keeps its short fit).  With ``at`` None every polish is needed (``_fit_all`` without a noise estimate).
+with a better short fit is being polished, and a far form waits until every form within WITHIN is polished; a
+worker that would otherwise idle takes a waiting form all the same (``speculate``), and the search stops waiting
+for it once it is known not to be needed (``settled``).  What is used is decided on the short fits and on the
+polishes of the forms ranked ahead, never on which worker finished first, so the outcome is the same with one
+worker or several; a polish that ran but is not needed is discarded (its form keeps its short fit).  With ``at``
+None every polish is needed (``_fit_all`` without a noise estimate).
 """
 
 from __future__ import annotations
@@ -102,6 +104,21 @@ class PolishOrder:
                 self.running.add(form)
                 return form, dropped
         return None, dropped
+
+    def speculate(self):
+        """A waiting form to polish on a worker that would otherwise idle, or None: the best-ranked one that may
+        still be needed.  Its result is used only where ``needed`` says so at the end, so starting it early
+        changes what the search costs, never what it finds."""
+        for form in sorted(self.waiting, key=self._rank):
+            if self.needed(form) is not False:
+                self.waiting.discard(form)
+                self.running.add(form)
+                return form
+        return None
+
+    def settled(self, pending) -> bool:
+        """Is nothing left to wait for: no form waiting, and every polish in ``pending`` (forms) not needed?"""
+        return not self.waiting and all(self.needed(f) is False for f in pending)
 
     def done(self, form, ne: float) -> None:
         """The form's polish returned with mean NE ``ne`` [-]."""

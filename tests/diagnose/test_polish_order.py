@@ -135,3 +135,72 @@ def test_fit_all_leaves_out_the_polishes_the_data_no_longer_need(monkeypatch, ex
         assert (P, 0) in calls and (P, 1) not in calls
         assert out[P][0].ne_mean_after == 0.012 and out[P][2] is True
         assert out[Q][0].ne_mean_after == 0.63 and out[Q][2] is False  # its short fit stands, not polished
+
+
+def test_an_idle_worker_takes_a_waiting_form_and_the_search_stops_waiting_once_it_is_not_needed():
+    screen = {(P, 0): 0.40, (P, 1): 0.45, (Q, 0): 0.63}
+    order = _order(screen)
+    order.screened = True
+    assert _start(order, (P, 0), (P, 1), (Q, 0)) == ([(P, 0)], [])
+    assert order.speculate() == (P, 1)  # ranked behind (P, 0), but a worker would idle
+    assert not order.settled([(P, 0), (P, 1)])
+    order.done((P, 0), 0.012)  # explains: (P, 1), still running, and (Q, 0), waiting, are not needed
+    assert _start(order) == ([], [(Q, 0)])
+    assert order.settled([(P, 1)])
+    assert order.needed((P, 1)) is False
+
+
+def test_a_speculative_polish_is_used_where_the_form_ranked_ahead_does_not_explain():
+    screen = {(P, 0): 0.40, (P, 1): 0.45}
+    order = _order(screen)
+    order.screened = True
+    assert _start(order, (P, 0), (P, 1)) == ([(P, 0)], []) and order.speculate() == (P, 1)
+    order.done((P, 0), 0.2)
+    order.done((P, 1), 0.1)
+    assert order.needed((P, 1)) is True and order.settled([])
+
+
+SHORTS = {(P, 0): 0.40, (P, 1): 0.45}
+MARK = {"started": None}  # a file the unneeded polish touches when it starts (reaches the workers by fork)
+
+
+def _pool_starts(name, variant, *a):
+    return {}, [f"x.{name}.{variant}=1:2"], [{"form": (name, variant)}], []
+
+
+def _pool_short(aug, specs, start, *common):
+    fit = _fit(SHORTS[start["form"]])
+    fit.model_text = repr(start["form"])
+    return fit, specs, start
+
+
+def _pool_polish(texts, specs, both, base, chans, trial_list, budget, every_base=False, anchored=False,
+                 enough=None):
+    import time
+
+    form = eval(texts[0])  # noqa: S307 (the test's own repr)
+    if form == (P, 1):
+        open(MARK["started"], "w").close()
+        time.sleep(60)  # a long polish that the data will not need
+    time.sleep(1.0)  # (P, 0): long enough for the idle worker to take (P, 1)
+    return _fit(0.012 if form == (P, 0) else 0.011)
+
+
+def test_a_search_in_worker_processes_does_not_wait_for_a_polish_it_does_not_need(monkeypatch, tmp_path):
+    import multiprocessing
+    import time
+
+    if multiprocessing.get_start_method() != "fork":
+        pytest.skip("the stubs reach the workers by fork")  # Linux, where CI runs
+    monkeypatch.setattr(api, "_starts", _pool_starts)
+    monkeypatch.setattr(api, "_short", _pool_short)
+    monkeypatch.setattr(api, "_polish", _pool_polish)
+    monkeypatch.setattr(api, "CANDIDATES_ALL", {P: type("H", (), {"variants": 2})()})
+    monkeypatch.setitem(MARK, "started", str(tmp_path / "started"))
+    t0 = time.perf_counter()
+    out = dict(api._fit_all([P], {}, None, [], [], 400, 2, ne_base=0.64, n_eff=1000, explained=AT))
+    took = time.perf_counter() - t0
+    print(f"MEASURED the search took {took:.2f} s beside a 60 s polish it did not need")
+    assert (tmp_path / "started").exists()  # the idle worker did take the polish that was then not needed
+    assert took < 3.0  # measured 1.04 s: (P, 0)'s polish, against the 60 s it would wait
+    assert out[P][0].ne_mean_after == 0.012 and out[P][2] is True  # (P, 0)'s polish, not (P, 1)'s

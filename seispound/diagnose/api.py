@@ -653,13 +653,14 @@ TOLERANCE = 1e-4  # least_squares' ftol and gtol
 COST_ORDER = ("inelastic-storey", "distributed-mass", "soil-structure-interaction", "spatially-varying-input",
               "velocity-dependent-restitution")  # the slowest simulations first: they set the parallel phase's length
 WITHIN = 1.5  # forms whose short fit is within this factor of the best short fit are polished too
+NOT_NEEDED = "not needed: a polished form explains the data"  # a form whose polish was left out (polish_order)
 STEP = 1e-3  # finite-difference step, a fraction of each parameter's (log-)range (calibrate_observer)
 
 
 def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_base, joint=(), alt=None,
              say=lambda msg: None, n_eff=None, context=None, explained=None):
-    """Yield (name, (fit, number of the hypothesis's own parameters, whether it was polished) or an error
-    string) per hypothesis, fitted in parallel processes.
+    """Yield (name, (fit, number of the hypothesis's own parameters, whether it was polished: True, False or
+    NOT_NEEDED) or an error string) per hypothesis, fitted in parallel processes.
 
     Every form of every hypothesis goes through three kinds of task, each started as soon as what it
     needs is done, so that the slow forms spread over the workers: its starts (``_starts``: the null
@@ -801,12 +802,15 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
     finally:
         if pool:
             _stop(pool, wait=not pending)
-    for f in list(polished):  # a polish that ran but is not needed is not used: the outcome of the order alone
+    unneeded = set()  # a polish that ran but is not needed is not used: the outcome of the order alone
+    for f in list(polished):
         if order.needed(f) is False:
             final[f] = short_fit[f]
             polished.discard(f)
+            unneeded.add(f)
     for name in names:
-        outs = [(final[f], f in polished) for f in forms if f[0] == name and f in final]
+        outs = [(final[f], True if f in polished else (NOT_NEEDED if f in unneeded else False))
+                for f in forms if f[0] == name and f in final]
         fits = [(o, p) for o, p in outs if not isinstance(o, str)]
         if fits:
             def misfit(o):
@@ -1144,8 +1148,10 @@ def _judge(outcomes, ref, n, n_eff, say, offset=0):
         gain = 1.0 - fit.ne_mean_after / ref.fit.ne_mean_after
         ok = (ref.bic - bic) > BIC_MARGIN and gain >= NE_GAIN
         entries[name] = {"ne": fit.ne_mean_after, "delta_bic": bic - ref.bic, "ne_gain": gain, "accepted": ok,
-                         "evaluations": fit.evaluations, "polished": polished,
+                         "evaluations": fit.evaluations, "polished": polished is True,
                          "parameters": {q: v["value"] for q, v in fit.parameters.items()}}
+        if polished == NOT_NEEDED:
+            entries[name]["not_polished"] = NOT_NEEDED
         word = f"{gain:.0%} better" if gain >= 0 else f"{-gain:.0%} worse"
         say(f"{name}: NE {fit.ne_mean_after:.4f} ({word} than {ref.name or 'the recalibrated base'}), "
             f"delta BIC {bic - ref.bic:+.1f}{' -> accepted' if ok else ''}")

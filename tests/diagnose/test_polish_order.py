@@ -134,7 +134,7 @@ def test_fit_all_leaves_out_the_polishes_the_data_no_longer_need(monkeypatch, ex
         # were in, and is not used; (P, 1) waited for (P, 0) and was left out
         assert (P, 0) in calls and (P, 1) not in calls
         assert out[P][0].ne_mean_after == 0.012 and out[P][2] is True
-        assert out[Q][0].ne_mean_after == 0.63 and out[Q][2] is False  # its short fit stands, not polished
+        assert out[Q][0].ne_mean_after == 0.63 and out[Q][2] == api.NOT_NEEDED  # its short fit stands
 
 
 def test_an_idle_worker_takes_a_waiting_form_and_the_search_stops_waiting_once_it_is_not_needed():

@@ -6,6 +6,9 @@ one case per family.  Timed: the whole ``diagnose`` call as a user makes it (rea
 model, recording and channel map, numerics check, recalibration, every hypothesis, the
 report, the augmented model and the figure).  Target: under 60 s each on this machine.
 
+``--progress``: diagnose's progress lines, each with its time, on stderr (where a search's time goes: the
+recalibration, each form's short fits and polish, the polishes left out).
+
 ``--drivers``: where the general driver's time goes: ``integrate`` alone (no Observer, no result) on the
 base row with each driver, the same row with its gap opened to 1 m (free flight throughout), and the
 forms that run on the general driver, at their null points, alternating in one process.
@@ -36,6 +39,7 @@ def main(argv=None) -> int:
                     help="time the integrator alone on the base row (both drivers, with and without contact) "
                          "and on the general driver's forms")
     ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--progress", action="store_true", help="diagnose's progress lines, with their times, on stderr")
     args = ap.parse_args(argv)
     if args.forms:
         return _forms(args.seed, args.repeat)
@@ -49,7 +53,7 @@ def main(argv=None) -> int:
             key = write_case(f, fam, args.seed, duration=30.0, buildings=2)
             t0 = time.perf_counter()
             d = diagnose(f / "model.toml", [f / "recording.mseed"], channels=f / "channels.toml",
-                         report=f / "report.json", figure=f / "fig.png", progress=False)
+                         report=f / "report.json", figure=f / "fig.png", progress=args.progress)
             wall = time.perf_counter() - t0
             print(f"{fam}: 2 buildings ({key['impacts']} impacts), 30 s at 200 Hz: diagnose {wall:.1f} s "
                   f"({'under' if wall < 60 else 'OVER'} 60 s); named {[x['physics'] for x in d.left_out] or 'nothing'}"

@@ -18,3 +18,21 @@ def short_copy(folder: Path, duration: float, name: str = "two_buildings.toml", 
     path = folder / (as_name or name)
     path.write_text(text, encoding="utf-8")
     return path
+
+
+def made_recording(data: dict, base, chans, true: dict, seed: int, noise: float = 0.01) -> list:
+    """Trials holding the package's own simulation of model table ``data`` at the values ``true``
+    ({path: value}) on channels ``chans``, each with white noise of ``noise`` times its standard deviation
+    (a recording whose truth is known, for calibration and diagnosis tests)."""
+    import numpy as np
+
+    from seispound.calibrate.observe import Observer, Trial
+    from seispound.calibrate.recording import Recording
+
+    dt = data["analysis"].get("dt", 0.005)
+    n = int(round(data["analysis"]["duration"] / dt)) + 1
+    blank = [Trial(Recording(dt, {c.id: np.zeros(n) for c in chans}, []))]
+    sims = Observer(data, base, chans, blank).simulate(list(true.items()))[0]
+    rng = np.random.default_rng(seed)
+    rec = {c.id: sims[c.id] + noise * sims[c.id].std() * rng.standard_normal(n) for c in chans}
+    return [Trial(Recording(dt, rec, []))]

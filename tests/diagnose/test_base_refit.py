@@ -20,17 +20,16 @@ import tomllib
 from pathlib import Path
 from types import SimpleNamespace
 
-import numpy as np
 import pytest
 import tomli_w
 
 from seispound.calibrate.channels import Channel
 from seispound.calibrate.fit import calibrate_observer, parse_fit
-from seispound.calibrate.observe import Observer, Trial
-from seispound.calibrate.recording import Recording
+from seispound.calibrate.observe import Observer
 from seispound.diagnose import api
 from seispound.diagnose.hypotheses import HYPOTHESES
 from seispound.diagnose.hypotheses.restitution import NEAREST_VELOCITIES
+from tests._models import made_recording
 
 REPO = Path(__file__).resolve().parents[2]
 MODELS = REPO / "models"
@@ -42,16 +41,10 @@ EV = "velocity-dependent-restitution"
 def case():
     data = tomllib.loads((MODELS / "two_buildings.toml").read_text())
     data["analysis"]["duration"] = 4.0
-    dt = data["analysis"].get("dt", 0.005)
-    n = int(round(4.0 / dt)) + 1
     chans = [Channel(f"XX.{b}.{f:02d}.HNX", "acceleration", b, f) for b in ("A", "B") for f in (1, 3)]
-    blank = [Trial(Recording(dt, {c.id: np.zeros(n) for c in chans}, []))]
     k_a = float(data["building"][0]["storey_stiffness"])
     true = {"building.A.storey_stiffness": K_FACTOR * k_a, "contact.restitution": E_TRUE}
-    sims = Observer(data, MODELS, chans, blank).simulate(list(true.items()))[0]
-    rng = np.random.default_rng(8)
-    rec = {c.id: sims[c.id] + 0.01 * sims[c.id].std() * rng.standard_normal(n) for c in chans}
-    trials = [Trial(Recording(dt, rec, []))]
+    trials = made_recording(data, MODELS, chans, true, seed=8)
     params = parse_fit([f"building.A.storey_stiffness={0.5 * k_a!r}:{2.0 * k_a!r}", "contact.restitution=0.2:0.95"],
                        data)
     obs = Observer(data, MODELS, chans, trials)

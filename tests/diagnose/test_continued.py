@@ -11,14 +11,13 @@ import math
 import tomllib
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 from seispound.calibrate.channels import Channel
 from seispound.calibrate.fit import calibrate_observer, parse_fit
-from seispound.calibrate.observe import Observer, Trial
-from seispound.calibrate.recording import Recording
+from seispound.calibrate.observe import Observer
 from seispound.diagnose import api
+from tests._models import made_recording
 
 REPO = Path(__file__).resolve().parents[2]
 MODELS = REPO / "models"
@@ -34,15 +33,9 @@ def _truth(data):
 def _case():
     data = tomllib.loads((MODELS / "two_buildings.toml").read_text())
     data["analysis"]["duration"] = 4.0
-    dt = data["analysis"].get("dt", 0.005)
-    n = int(round(4.0 / dt)) + 1
     chans = [Channel(f"XX.{b}.{f:02d}.HNX", "acceleration", b, f) for b in ("A", "B") for f in (1, 3)]
-    blank = [Trial(Recording(dt, {c.id: np.zeros(n) for c in chans}, []))]
     true, specs = _truth(data)
-    truth = Observer(data, MODELS, chans, blank).simulate(list(true.items()))[0]
-    rng = np.random.default_rng(5)
-    rec = {c.id: x + 0.01 * x.std() * rng.standard_normal(x.size) for c, x in ((c, truth[c.id]) for c in chans)}
-    return data, chans, [Trial(Recording(dt, rec, []))], true, specs
+    return data, chans, made_recording(data, MODELS, chans, true, seed=5), true, specs
 
 
 def _step(fit, n_eff, p, prev=None):

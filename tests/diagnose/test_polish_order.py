@@ -98,6 +98,21 @@ def _fit(ne):
     return SimpleNamespace(ne_mean_after=ne, parameters={}, evaluations=1, n=1000, residual_ss=ne * ne)
 
 
+SHORTS = {(P, 0): 0.40, (P, 1): 0.45}  # each form's short fit (a test may replace it); module level: picklable
+
+
+def _stub_starts(name, variant, *a):
+    if (name, variant) not in SHORTS:
+        return "not in this test"  # a form that cannot run is left out
+    return {}, [f"x.{name}.{variant}=1:2"], [{"form": (name, variant)}], []
+
+
+def _stub_short(aug, specs, start, *common):
+    fit = _fit(SHORTS[start["form"]])
+    fit.model_text = repr(start["form"])
+    return fit, specs, start
+
+
 @pytest.mark.parametrize("explained", [None, AT], ids=["every-polish", "explained"])
 def test_fit_all_leaves_out_the_polishes_the_data_no_longer_need(monkeypatch, explained):
     # P's first form explains the data when polished; P's second form and Q (far) would polish closer still
@@ -105,25 +120,16 @@ def test_fit_all_leaves_out_the_polishes_the_data_no_longer_need(monkeypatch, ex
     polished = {(P, 0): 0.012, (P, 1): 0.011, (Q, 0): 0.0105}
     calls = []
 
-    def starts(name, variant, *a):
-        if (name, variant) not in shorts:
-            return "not in this test"
-        return {}, [f"x.{name}.{variant}=1:2"], [{"form": (name, variant)}], []
-
-    def short(aug, specs, start, *common):
-        fit = _fit(shorts[start["form"]])
-        fit.model_text = repr(start["form"])
-        return fit, specs, start
-
     def polish(texts, specs, both, base, chans, trial_list, budget, every_base=False, anchored=False,
                enough=None):
         form = eval(texts[0])  # noqa: S307 (the test's own repr)
         calls.append(form)
         return _fit(polished[form])
 
-    monkeypatch.setattr(api, "_starts", starts)
-    monkeypatch.setattr(api, "_short", short)
+    monkeypatch.setattr(api, "_starts", _stub_starts)
+    monkeypatch.setattr(api, "_short", _stub_short)
     monkeypatch.setattr(api, "_polish", polish)
+    monkeypatch.setitem(globals(), "SHORTS", shorts)
     monkeypatch.setattr(api, "_rss", lambda fit: 1000 * fit.ne_mean_after ** 2)
     out = dict(api._fit_all([P, Q], {}, None, [], [], 400, 1, ne_base=0.64, n_eff=1000, explained=explained))
     if explained is None:
@@ -160,18 +166,9 @@ def test_a_speculative_polish_is_used_where_the_form_ranked_ahead_does_not_expla
     assert order.needed((P, 1)) is True and order.settled([])
 
 
-SHORTS = {(P, 0): 0.40, (P, 1): 0.45}
 MARK = {"started": None}  # a file the unneeded polish touches when it starts (reaches the workers by fork)
 
 
-def _pool_starts(name, variant, *a):
-    return {}, [f"x.{name}.{variant}=1:2"], [{"form": (name, variant)}], []
-
-
-def _pool_short(aug, specs, start, *common):
-    fit = _fit(SHORTS[start["form"]])
-    fit.model_text = repr(start["form"])
-    return fit, specs, start
 
 
 def _pool_polish(texts, specs, both, base, chans, trial_list, budget, every_base=False, anchored=False,
@@ -192,8 +189,8 @@ def test_a_search_in_worker_processes_does_not_wait_for_a_polish_it_does_not_nee
 
     if multiprocessing.get_start_method() != "fork":
         pytest.skip("the stubs reach the workers by fork")  # Linux, where CI runs
-    monkeypatch.setattr(api, "_starts", _pool_starts)
-    monkeypatch.setattr(api, "_short", _pool_short)
+    monkeypatch.setattr(api, "_starts", _stub_starts)
+    monkeypatch.setattr(api, "_short", _stub_short)
     monkeypatch.setattr(api, "_polish", _pool_polish)
     monkeypatch.setattr(api, "CANDIDATES_ALL", {P: type("H", (), {"variants": 2})()})
     monkeypatch.setitem(MARK, "started", str(tmp_path / "started"))

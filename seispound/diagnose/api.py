@@ -796,8 +796,8 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
                             if f not in polished and screen[f] <= WITHIN * best:
                                 polish(f)
             dispatch()
-            if pool and not queue and order.settled([t[1] for t in pending.values() if t[0] == "polish"]) and all(
-                    t[0] == "polish" for t in pending.values()):
+            running = list(pending.values())
+            if pool and not queue and all(k == "polish" for k, _ in running) and order.settled([f for _, f in running]):
                 break  # what runs is not needed (``PolishOrder.speculate``): not waited for
     finally:
         if pool:

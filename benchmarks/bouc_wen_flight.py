@@ -1,7 +1,7 @@
 """Bouc-Wen storeys in free flight against their physical path: ``python -m benchmarks.bouc_wen_flight``.
 
 Two rows, each integrated with ``hysteretic_flight`` on (the offsets iterated within the exact
-step, ``_general_flight._bouc_wen_flight``) and off (Newmark substeps throughout), medians of
+step, ``_general_flight._hysteretic_flight``) and off (Newmark substeps throughout), medians of
 ``--repeat`` ``integrate`` calls after a warm one, in one process:
 
 1. the Bouc-Wen case of ``benchmarks.physics_accuracy`` (a 5 + 8 storey pair, 20 s of 1.5 x El

@@ -119,9 +119,10 @@ def general_kernel(linear, p, numbering, elements, state0, motion, init, setting
     ff = (on, start, off_x, off_g, off_e, phi, G0, G1, Egx, Egg, st_elem, st_start, Gc, Egc, Gq, Egq, bw):
     while every gap is open (and every storey, if any, is bilinear or, with ``bw``, Bouc-Wen: ``on``
     says so) an analysis step is one map per building (``transition.py``: exact, or the same Newmark
-    substeps composed), screened for gap events and for bilinear storeys leaving their elastic
-    range, the Bouc-Wen storeys' terms iterated within it (``_general_flight``); on False, or when
-    the screen finds an event, the step is taken on the physical path (the kernel's substep and attempt loops).
+    substeps composed), screened for gap events and for elastic bilinear storeys reaching yield, the
+    terms of the Bouc-Wen storeys and, with ``bw``, of the yielding bilinear ones iterated within it
+    (``_general_flight``); on False, or when the screen finds an event, the step is taken on the physical
+    path (the kernel's substep and attempt loops).
     """
     # arguments: alive for the whole call, so borrowed (``_borrow``: no reference counting in the loop)
     linear, numbering, elements, motion, init, opts, outs, cat = borrow_all(
@@ -244,7 +245,8 @@ def _general_work(n, nn, nm, bands, n_ff, dt, state0, init):
     contact substep, the substeps since its impact's onset and the impact's number;
     ev = (d0, r0, d1, r1, toggles, land_too, gk, g_t, g_1): the elements' deformations and rates at the
     step's start and end, the gaps switched together, the ground terms;
-    fl = (u1, v1, a1, xs, ys, cst, rise, zs): a free-flight step's trial state and scratch.
+    fl = (u1, v1, a1, xs, ys, cst, rise, zs, itr): a free-flight step's trial state and scratch
+    (``_general_flight._free_flight``).
     """
     p, pT, el_pred = bands
     nw = max(nn, 1)
@@ -267,7 +269,7 @@ def _general_work(n, nn, nm, bands, n_ff, dt, state0, init):
     ev = (np.empty(nn), np.empty(nn), np.empty(nn), np.empty(nn), np.empty(nw, np.int64), np.empty(nw, np.int64),
           np.zeros((4, nn)), np.empty(nm), np.empty(nm))
     fl = (np.empty(n), np.empty(n), np.empty(n), np.empty(2 * n + 2 * nm), np.empty(3 * n), np.empty(nf),
-          np.zeros(2 * nf + 1), np.zeros(6 * nf))
+          np.zeros(2 * nf + 1), np.zeros(6 * nf), np.zeros(nf, np.bool_))
     return fac, st, lists, nwt, tang, elem, ev, fl
 
 

@@ -1,12 +1,12 @@
 """Free flight on the general driver: an analysis step with every gap open by each building's state-transition map.
 
 Private to the general driver (``_general.py``).  While every gap is open and every storey is bilinear
-and elastic, or Bouc-Wen, each building moves by its own linear map over the analysis step
-(``transition.py``: exact for the piecewise-linear ground motion, or the same Newmark substeps
-composed), with each bilinear storey's plastic offset and each Bouc-Wen storey's offset force as
-inputs.  The step is screened for gap events and for bilinear storeys leaving their elastic range
-(``_events``' cubic bound); a Bouc-Wen storey's offset is iterated within the step
-(``_bouc_wen_flight``).  An accepted step commits the state, the storeys' laws and the energies;
+or Bouc-Wen, each building moves by its own linear map over the analysis step (``transition.py``: exact
+for the piecewise-linear ground motion, or the same Newmark substeps composed), with each bilinear
+storey's plastic offset and each Bouc-Wen storey's offset force as inputs.  The step is screened for gap
+events and for elastic bilinear storeys reaching yield (``_events``' cubic bound); the offsets of the
+Bouc-Wen storeys and of the bilinear storeys that are yielding at the step's start are iterated within
+the step (``_hysteretic_flight``).  An accepted step commits the state, the storeys' laws and the energies;
 one that is not leaves the state as it was, and the driver takes the step on its physical path.
 """
 
@@ -19,10 +19,11 @@ from ._elements import _deformation_at, kinetic_energy
 from ._events import _event_in_step, _hermite, _screen_elements
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
 from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY
-from ._material import ST_DELTA, ST_EPS, ST_PLASTIC, ST_Z, bouc_wen_path, material_commit, material_trial
+from ._material import (B_ON_SURFACE, ST_DELTA, ST_EPS, ST_PLASTIC, ST_Q, ST_Z, bilinear_path, bouc_wen_path,
+                        material_commit, material_trial)
 from ._outputs import S_DOF_STEPS, S_FREE_FLIGHT, S_ITERATIONS, S_STEPS
 
-# a free-flight step's Bouc-Wen terms: the fixed point stops when the next sweep would move no term's rise
+# a free-flight step's hysteretic terms: the fixed point stops when the next sweep would move no term's rise
 # by more than BW_FLIGHT_TOL (1 - alpha) k dy, and is given up (the physical path takes the step) after
 # BW_FLIGHT_ITER sweeps
 BW_FLIGHT_TOL = 1e-7
@@ -35,8 +36,8 @@ _GL_W = (5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0)
 @njit(cache=True, inline="always")
 def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, stats):
     """The analysis step ending at t_end in free flight (``_free_flight_trial``), accepted if no gap
-    touches, no bilinear storey leaves its elastic range in it and the Bouc-Wen storeys' terms
-    converge (``_bouc_wen_flight``).
+    touches, no elastic bilinear storey reaches yield in it and the hysteretic storeys' terms
+    converge (``_hysteretic_flight``).
 
     clock = (t_end, dt) [s]; the groups as ``general_kernel`` names them (st, elem, ev, fl: its work
     arrays, ``_general_work``); peaks = (umax, fmax); energy = (input, linear elements' and dampers' work,
@@ -51,22 +52,29 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
     u, v = st[0], st[1]
     st_c, active = elem[0], elem[6]
     d0, r0, d1, r1, land_too, gk, g_t, g_1 = ev[0], ev[1], ev[2], ev[3], ev[5], ev[6], ev[7], ev[8]
-    u1, v1, a1, xs, ys, cst, rise, zs = fl
+    u1, v1, a1, xs, ys, cst, rise, zs, itr = fl
     st_elem = ff[10]
+    n_itr = 0
     for j in range(st_elem.size):  # F = k delta - c: c = (1 - alpha) k delta_p, fixed while elastic
         q = st_elem[j]
         if ne_code[q] == BOUC_WEN:  # c = (1 - alpha) k (delta - z) at the step's start
             cst[j] = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * (st_c[q, ST_DELTA] - st_c[q, ST_Z])
-        else:
+            itr[j] = True
+        else:  # a yielding bilinear storey's c is iterated as a Bouc-Wen storey's (z = q_h / k)
             cst[j] = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * st_c[q, ST_PLASTIC]
+            itr[j] = ff[16] and abs(st_c[q, ST_Q]) >= (1.0 - B_ON_SURFACE) * ne_par[q, B_FY]
+            if not itr[j]:
+                rise[2 * j], rise[2 * j + 1] = 0.0, 0.0
+        n_itr += 1 if itr[j] else 0
     _ground_all(ag, t_end, dt, g_1)
     de = _free_flight_trial(ff, u, v, g_t, g_1, u1, v1, a1, xs, ys, cst)
     if moving:
         _gap_ground_all(ne_ground, t_end, dt, gk, GU1)
     dwh = 0.0
-    if ff[16]:  # Bouc-Wen storeys: their terms within the step
-        ok, de_bw, dwh = _bouc_wen_flight(ff, elg[:5], (st_c, cst), (u, v), (u1, v1, a1), xs[xs.size - 2 * g_t.size:],
-                                          gk, dt, (rise, zs))
+    rise[rise.size - 1] = 0
+    if n_itr > 0:  # Bouc-Wen and yielding bilinear storeys: their terms within the step
+        ok, de_bw, dwh = _hysteretic_flight(ff, elg[:5], (st_c, cst), (u, v), (u1, v1, a1),
+                                            xs[xs.size - 2 * g_t.size:], gk, dt, (rise, zs, itr))
         if not ok:
             return False, energy
         de += de_bw
@@ -75,13 +83,13 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
             d1[q], r1[q] = _deformation_at(elg[0], elg[1], elg[2], q, u1, v1, gk, GU1)
     if _screen_elements(ne_gap, active, d0, r0, d1, r1, dt, False, -1, land_too)[1] >= 0:
         return False, energy
-    ok, dwh = _elastic_through(ff, elg, st_c, (u, v, u1, v1), (d1, r1), gk, dt, cst, zs, dwh)
+    ok, dwh = _elastic_through(ff, elg, st_c, (u, v, u1, v1), (d1, r1), gk, dt, cst, (zs, itr), dwh)
     if not ok:
         return False, energy
     dke = kinetic_energy(lin[0], lin[1], lin[2], lin[9], v1) - kinetic_energy(lin[0], lin[1], lin[2], lin[9], v)
     _flight_commit(ff, elg, st, elem, ev, fl, peaks, moving)
     stats[S_FREE_FLIGHT] += 1
-    stats[S_ITERATIONS] += int(rise[rise.size - 1])  # the Bouc-Wen terms' sweeps (0 without)
+    stats[S_ITERATIONS] += int(rise[rise.size - 1])  # the hysteretic terms' sweeps (0 without)
     stats[S_STEPS] += 1
     stats[S_DOF_STEPS] += u.size
     e_in, w_lin, w_hys, e_cont = energy
@@ -89,17 +97,19 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
 
 
 @njit(cache=True, inline="always")
-def _elastic_through(ff, elg, st_c, x, dr1, gk, dt, cst, zs, dwh):
-    """Does each bilinear storey stay within its elastic range over the whole free-flight step (the
-    cubic bound of ``_events``)?  Returns (ok, dwh plus the bilinear storeys' work [J]); fills each storey's end
-    deformation and rate into dr1 = (d1, r1) (a Bouc-Wen storey's from its path, zs)."""
-    ne_dof, ne_coef, ne_size, ne_code, ne_par = elg[0], elg[1], elg[2], elg[3], elg[4]
+def _elastic_through(ff, elg, st_c, x, dr1, gk, dt, cst, terms, dwh):
+    """Does each bilinear storey whose term is not iterated stay within its elastic range over the whole
+    free-flight step (the cubic bound of ``_events``)?  Returns (ok, dwh plus those storeys' work [J]); fills
+    each storey's end deformation and rate into dr1 = (d1, r1) (an iterated storey's from its path: terms =
+    (zs, itr), ``_hysteretic_flight``)."""
+    ne_dof, ne_coef, ne_size, ne_par = elg[0], elg[1], elg[2], elg[4]
     u, v, u1, v1 = x
     d1, r1 = dr1
+    zs, itr = terms
     st_elem = ff[10]
     for j in range(st_elem.size):
         q = st_elem[j]
-        if ne_code[q] == BOUC_WEN:
+        if itr[j]:
             d1[q] = zs[6 * j + 2]
             continue
         k = ne_par[q, B_K]
@@ -125,7 +135,7 @@ def _flight_commit(ff, elg, st, elem, ev, fl, peaks, moving):
     u, v, a = st[0], st[1], st[2]
     st_c, st_t, F = elem[0], elem[1], elem[2]
     d0, r0, d1, r1, gk, g_t, g_1 = ev[0], ev[1], ev[2], ev[3], ev[6], ev[7], ev[8]
-    u1, v1, a1, zs = fl[0], fl[1], fl[2], fl[7]
+    u1, v1, a1, zs, itr = fl[0], fl[1], fl[2], fl[7], fl[8]
     umax, fmax = peaks
     st_elem = ff[10]
     for i in range(u.size):
@@ -140,11 +150,17 @@ def _flight_commit(ff, elg, st, elem, ev, fl, peaks, moving):
     for j in range(st_elem.size):  # the storeys' state at the step's end (elastic: delta_p kept)
         q = st_elem[j]
         d0[q] = d1[q]  # (the output's recoverable energy reads the storeys' deformations here)
-        if ne_code[q] == BOUC_WEN:  # the state its path reached
+        if itr[j]:  # the state its path reached
             for c in range(st_c.shape[1]):
                 st_t[q, c] = st_c[q, c]
-            st_t[q, ST_Z], st_t[q, ST_EPS], st_t[q, ST_DELTA] = zs[6 * j], zs[6 * j + 1], d1[q]
-            F[q] = ne_par[q, B_K] * d1[q] - (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * (d1[q] - zs[6 * j])
+            z = zs[6 * j]
+            if ne_code[q] == BOUC_WEN:
+                st_t[q, ST_Z], st_t[q, ST_EPS], st_t[q, ST_DELTA] = z, zs[6 * j + 1], d1[q]
+            else:  # q_h = k z within +-fy, delta_p = delta - z
+                dy = ne_par[q, B_FY] / ne_par[q, B_K]
+                z = min(max(z, -dy), dy)
+                st_t[q, ST_Q], st_t[q, ST_PLASTIC] = ne_par[q, B_K] * z, d1[q] - z
+            F[q] = ne_par[q, B_K] * d1[q] - (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * (d1[q] - z)
         else:
             F[q] = material_trial(ne_code[q], ne_par, st_c, st_t, q, d1[q], r1[q])[0]
         material_commit(st_c, st_t, q)
@@ -231,36 +247,38 @@ def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs, ys, cst):
 
 
 @njit(cache=True)
-def _bouc_wen_flight(ff, elg, mat, x0, x1, gs, gk, h, bw):
-    """Iterate the Bouc-Wen storeys' terms over a free-flight step; (converged, input work [J], storeys' work [J]).
+def _hysteretic_flight(ff, elg, mat, x0, x1, gs, gk, h, terms):
+    """Iterate the hysteretic storeys' terms over a free-flight step; (converged, input work [J], storeys' work [J]).
 
-    A Bouc-Wen storey's force is k delta - c with c = (1 - alpha) k (delta - z) (``_material``): the
-    linear part holds k, and c is a load that changes within the step.  It is taken as the quadratic
-    through c0 (committed, ``cst``), c0 + dm at the middle and c0 + d1 at the end, whose response the
-    maps give (``transition._exact_maps``, columns gq); z follows the end state's Hermite cubic of each
-    storey's deformation (``_material.bouc_wen_path``), which gives new dm, d1: a fixed point, swept over the
-    storeys (Gauss-Seidel; the contraction is about (1 - alpha) (omega h)^2 / 6 per sweep) from the
-    last step's quadratic extrapolated.  After each sweep the change its updates made in every
-    storey's deformation at the middle and the end, times the law's slope there, predicts the next
-    sweep's corrections; when none would exceed BW_FLIGHT_TOL (1 - alpha) k dy the sweep is not made
-    and z takes that linear correction instead (one path integration per storey and sweep saved).
+    A Bouc-Wen storey's force is k delta - c with c = (1 - alpha) k (delta - z) (``_material``), and so is a
+    bilinear storey's with z = q_h / k: the linear part holds k, and c is a load that changes within the
+    step.  It is taken as the quadratic through c0 (committed, ``cst``), c0 + dm at the middle and c0 + d1 at
+    the end, whose response the maps give (``transition._exact_maps``, columns gq); z follows the end state's
+    Hermite cubic of each storey's deformation (``_material.bouc_wen_path``, ``_material.bilinear_path``),
+    which gives new dm, d1: a fixed point, swept over the storeys (Gauss-Seidel; the contraction is about
+    (1 - alpha) (omega h)^2 / 6 per sweep) from the last step's quadratic extrapolated.  After each sweep
+    the change its updates made in every storey's deformation at the middle and the end, times the law's
+    slope there, predicts the next sweep's corrections; when none would exceed BW_FLIGHT_TOL (1 - alpha) k dy
+    the sweep is not made and z takes that linear correction instead (one path integration per storey and
+    sweep saved).  Not converged, or a bilinear storey yielding from inside its elastic range (a kink in
+    c(t) that no quadratic holds): the physical path takes the step.
 
     elg = (ne_dof, ne_coef, ne_size, ne_code, ne_par): the elements with state; mat = (st_c, cst); x0 = (u, v)
     the step's start; x1 = (u1, v1, a1) (in: with c0 held) end with the final terms; gs the ground accelerations
-    at the step's start and end (2 nm,); bw = (rise, zs): rise (2 ns + 1) holds dm, d1 and the sweeps made; zs
-    (6 ns) per storey z at the end, eps at the end, the deformation at the end and at the middle of its last
-    integration, and the law's slopes there.  The storey's work int (k delta - c) d(delta) is exact for the
-    quadratic c and cubic delta (3-point Gauss-Legendre; derived here, not read from a source).
+    at the step's start and end (2 nm,); terms = (rise, zs, itr): rise (2 ns + 1) holds dm, d1 and the sweeps
+    made; zs (6 ns) per storey z at the end, eps at the end, the deformation at the end and at the middle of
+    its last integration, and the law's slopes there; itr (ns,) the storeys whose terms are iterated (the
+    others' c stays c0).  The storey's work int (k delta - c) d(delta) is exact for the quadratic c and cubic
+    delta (3-point Gauss-Legendre; derived here, not read from a source).
     """
-    start, st_elem, st_start, gq = ff[1], ff[10], ff[11], ff[14]
-    ne_code = elg[3]
-    rise, zs = bw
+    start, st_start, gq = ff[1], ff[11], ff[14]
+    rise, zs, itr = terms
     o_q = 0
     for c in range(start.size - 1):  # the first guess: the last step's quadratic, extrapolated
         a = start[c]
         nb = start[c + 1] - a
         for j in range(st_start[c], st_start[c + 1]):
-            if ne_code[st_elem[j]] != BOUC_WEN:
+            if not itr[j]:
                 continue
             dm, d1 = 2.0 * rise[2 * j + 1] - 3.0 * rise[2 * j], 5.0 * rise[2 * j + 1] - 8.0 * rise[2 * j]
             rise[2 * j], rise[2 * j + 1] = dm, d1
@@ -268,35 +286,43 @@ def _bouc_wen_flight(ff, elg, mat, x0, x1, gs, gk, h, bw):
         o_q += 6 * nb * (st_start[c + 1] - st_start[c])
     for it in range(BW_FLIGHT_ITER):
         rise[rise.size - 1] = it + 1  # sweeps made (the driver's iteration count)
-        _bouc_wen_sweep(ff, elg, mat, x0, x1, gk, h, bw)
-        if _bouc_wen_next(ff, elg, x0, x1, gk, h, zs) <= BW_FLIGHT_TOL:
-            de, dwh = _bouc_wen_work(ff, elg, mat, x0, x1, gs, gk, h, bw)
+        if not _hysteretic_sweep(ff, elg, mat, x0, x1, gk, h, terms):
+            return False, 0.0, 0.0
+        if _hysteretic_next(ff, elg, x0, x1, gk, h, terms) <= BW_FLIGHT_TOL:
+            de, dwh = _hysteretic_work(ff, elg, mat, x0, x1, gs, gk, h, terms)
             return True, de, dwh
     return False, 0.0, 0.0
 
 
 @njit(cache=True, inline="always")
-def _bouc_wen_sweep(ff, elg, mat, x0, x1, gk, h, bw):
-    """One Gauss-Seidel sweep of ``_bouc_wen_flight`` over the Bouc-Wen storeys: each storey's z along its
-    end state's cubic, its rises dm, d1 [N] corrected and added to the end state x1."""
+def _hysteretic_sweep(ff, elg, mat, x0, x1, gk, h, terms):
+    """One Gauss-Seidel sweep of ``_hysteretic_flight`` over the iterated storeys: each storey's z along its
+    end state's cubic, its rises dm, d1 [N] corrected and added to the end state x1.  False: a bilinear
+    storey yields from inside its elastic range within the step."""
     start, st_elem, st_start, gq = ff[1], ff[10], ff[11], ff[14]
     ne_dof, ne_coef, ne_size, ne_code, ne_par = elg[0], elg[1], elg[2], elg[3], elg[4]
     st_c, cst = mat
     u, v = x0
     u1, v1 = x1[0], x1[1]
-    rise, zs = bw
+    rise, zs, itr = terms
     o_q = 0
     for c in range(start.size - 1):
         a = start[c]
         nb = start[c + 1] - a
         for j in range(st_start[c], st_start[c + 1]):
             q = st_elem[j]
-            if ne_code[q] != BOUC_WEN:
+            if not itr[j]:
                 continue
             ds0, rs0 = _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, GU0)
             ds1, rs1 = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
             ca, cb, cc = _cubic(ds0, rs0, ds1, rs1, h)
-            zm, z1, eps1, pm, p1 = bouc_wen_path(ne_par, q, st_c[q, ST_Z], st_c[q, ST_EPS], ds0, ca, cb, cc)
+            if ne_code[q] == BOUC_WEN:
+                zm, z1, eps1, pm, p1 = bouc_wen_path(ne_par, q, st_c[q, ST_Z], st_c[q, ST_EPS], ds0, ca, cb, cc)
+            else:
+                zm, z1, pm, p1, onset = bilinear_path(ne_par, q, st_c[q, ST_Q] / ne_par[q, B_K], ds0, ca, cb, cc)
+                if onset:
+                    return False
+                eps1 = 0.0
             dm_ = _hermite(0.5, ds0, rs0, ds1, rs1, h)
             scale = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K]
             ddm = scale * (dm_ - zm) - cst[j] - rise[2 * j]
@@ -309,41 +335,49 @@ def _bouc_wen_sweep(ff, elg, mat, x0, x1, gk, h, bw):
             rise[2 * j + 1] += dd1
             _add_rise(gq, o_q + (j - st_start[c]) * 6 * nb, nb, a, ddm, dd1, x1)
         o_q += 6 * nb * (st_start[c + 1] - st_start[c])
+    return True
 
 
 @njit(cache=True, inline="always")
-def _bouc_wen_next(ff, elg, x0, x1, gk, h, zs):
+def _yield_scale(code, par, q):
+    """The displacement [m] z is bounded by: a Bouc-Wen storey's dy, a bilinear storey's fy / k."""
+    return par[q, BW_DY] if code == BOUC_WEN else par[q, B_FY] / par[q, B_K]
+
+
+@njit(cache=True, inline="always")
+def _hysteretic_next(ff, elg, x0, x1, gk, h, terms):
     """The next sweep's largest correction, predicted from how far the last sweep's updates moved each
-    Bouc-Wen storey's deformation at the step's middle and end times the law's slope there, relative
-    to its yield displacement (``_bouc_wen_flight``)."""
+    iterated storey's deformation at the step's middle and end times the law's slope there, relative
+    to its yield displacement (``_hysteretic_flight``)."""
     st_elem = ff[10]
     ne_dof, ne_coef, ne_size, ne_code, ne_par = elg[0], elg[1], elg[2], elg[3], elg[4]
     u, v = x0
     u1, v1 = x1[0], x1[1]
+    zs, itr = terms[1], terms[2]
     pred = 0.0
     for j in range(st_elem.size):
         q = st_elem[j]
-        if ne_code[q] != BOUC_WEN:
+        if not itr[j]:
             continue
         ds0, rs0 = _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, GU0)
         ds1, rs1 = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
         dm_ = _hermite(0.5, ds0, rs0, ds1, rs1, h)
         step1, stepm = ds1 - zs[6 * j + 2], dm_ - zs[6 * j + 3]
         pred = max(pred, (abs((1.0 - zs[6 * j + 4]) * stepm) + abs((1.0 - zs[6 * j + 5]) * step1))
-                   / ne_par[q, BW_DY])
+                   / _yield_scale(ne_code[q], ne_par, q))
     return pred
 
 
 @njit(cache=True, inline="always")
-def _bouc_wen_work(ff, elg, mat, x0, x1, gs, gk, h, bw):
-    """The converged step's input work of the rises [J], z's linear correction, and the Bouc-Wen storeys'
-    work along the final path [J] (``_bouc_wen_flight``)."""
+def _hysteretic_work(ff, elg, mat, x0, x1, gs, gk, h, terms):
+    """The converged step's input work of the rises [J], z's linear correction, and the iterated storeys'
+    work along the final path [J] (``_hysteretic_flight``)."""
     start, st_elem, st_start, egq = ff[1], ff[10], ff[11], ff[15]
     ne_dof, ne_coef, ne_size, ne_code, ne_par = elg[0], elg[1], elg[2], elg[3], elg[4]
     cst = mat[1]
     u, v = x0
     u1, v1 = x1[0], x1[1]
-    rise, zs = bw
+    rise, zs, itr = terms
     nm = gs.size // 2
     de = 0.0
     dwh = 0.0
@@ -351,7 +385,7 @@ def _bouc_wen_work(ff, elg, mat, x0, x1, gs, gk, h, bw):
     for c in range(start.size - 1):
         for j in range(st_start[c], st_start[c + 1]):
             q = st_elem[j]
-            if ne_code[q] != BOUC_WEN:
+            if not itr[j]:
                 continue
             dm, d1 = rise[2 * j], rise[2 * j + 1]
             base = o_e + (j - st_start[c]) * 4 * nm
@@ -361,7 +395,8 @@ def _bouc_wen_work(ff, elg, mat, x0, x1, gs, gk, h, bw):
             ds1, rs1 = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
             step1 = ds1 - zs[6 * j + 2]
             zs[6 * j] += zs[6 * j + 5] * step1
-            zs[6 * j + 1] += zs[6 * j] * step1 / (ne_par[q, BW_DY] * ne_par[q, BW_DY])
+            if ne_code[q] == BOUC_WEN:
+                zs[6 * j + 1] += zs[6 * j] * step1 / (ne_par[q, BW_DY] * ne_par[q, BW_DY])
             zs[6 * j + 2] = ds1
             ca, cb, cc = _cubic(ds0, rs0, ds1, rs1, h)
             work_c = 0.0  # int c d(delta) = int_0^1 c(tau) delta'(tau) d tau

@@ -28,7 +28,7 @@ keep (zeta, e) set at onset and do not change within an impact.  Hysteretic
 storey laws: BILINEAR (kinematic hardening) and BOUC_WEN (smooth, Bouc 1967,
 Wen 1976).  Both drivers call every law through this protocol (``_contact._begin_impact``
 for the onset, ``_newton`` for the trials).  Free flight with
-Bouc-Wen storeys (``_general_flight._bouc_wen_flight``) carries z along a step's path
+Bouc-Wen storeys (``_general_flight._hysteretic_flight``) carries z along a step's path
 with ``bouc_wen_path`` and commits the state it reached.
 """
 
@@ -240,18 +240,11 @@ def _bouc_wen_piece(par, q, z, eps, total):
     return bouc_wen_advance(par, q, z, eps, total)
 
 
-@njit(cache=True)
-def bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
-    """(z at the step's middle, z and eps at its end, dz/d(delta) at the middle and at the end) of Bouc-Wen
-    storey q along the deformation delta(tau) = d0 + ca tau + cb tau^2 + cc tau^3, tau in [0, 1] (the
-    step's Hermite cubic).
-
-    The law is rate independent, so z follows the path: ``bouc_wen_advance`` over its monotonic
-    pieces, split at the turning points (delta'(tau) = 0).  On a monotonic step one piece, and z at
-    the middle from the cubic Hermite of z in delta through both ends, with the law's slopes there
-    (error of order (delta1 - delta0)^4; derived here); otherwise split at the middle too.
-    """
-    t_a, t_b = 2.0, 2.0  # the turning points in (0, 1), 2: none
+@njit(cache=True, inline="always")
+def _turning_points(ca, cb, cc):
+    """The turning points (delta'(tau) = 0) of delta(tau) = d0 + ca tau + cb tau^2 + cc tau^3 inside (0, 1),
+    sorted; 2.0 where there is none."""
+    t_a, t_b = 2.0, 2.0
     qa, qb, qc = 3.0 * cc, 2.0 * cb, ca
     if qa != 0.0:
         disc = qb * qb - 4.0 * qa * qc
@@ -266,6 +259,79 @@ def bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
         t_a = 2.0
     if not 1e-9 < t_b < 1.0 - 1e-9:
         t_b = 2.0
+    if t_a > t_b:
+        t_a, t_b = t_b, t_a
+    return t_a, t_b
+
+
+# a bilinear storey whose hysteretic force is within this fraction of fy of its yield force is yielding
+B_ON_SURFACE = 1e-9
+
+
+@njit(cache=True, inline="always")
+def _breakpoints(ca, cb, cc):
+    """The ends of a path's pieces in (0, 1]: its turning points and the middle 0.5, sorted, then 1.0
+    (a turning point absent: 2.0, skipped by the caller)."""
+    t_a, t_b = _turning_points(ca, cb, cc)
+    s0, s1, s2 = t_a, t_b, 0.5  # sorted with the middle: s0 <= s1 <= s2
+    if s1 > 0.5:
+        s1, s2 = 0.5, s1
+        if s0 > 0.5:
+            s0, s1 = 0.5, s0
+    return s0, s1, s2
+
+
+@njit(cache=True)
+def bilinear_path(par, q, z, d0, ca, cb, cc):
+    """(z at the step's middle, z at its end, dz/d(delta) there, whether it yields from inside its elastic range)
+    of bilinear storey q along delta(tau) = d0 + ca tau + cb tau^2 + cc tau^3, tau in [0, 1].
+
+    z = q_h / k [m] is the hysteretic force over the elastic stiffness, bounded by dy = fy / k, so that the
+    storey's force is alpha k delta + (1 - alpha) k z, Bouc-Wen's form (``bouc_wen_path``).  On a monotonic
+    piece the return map is exact: z moves with delta and stops at +-dy (``material_trial``'s; Simo & Hughes
+    1998, Sec. 1.4), so the path is cut at its turning points and at the middle.  A storey that reaches dy
+    from inside its elastic range within the step makes its force's slope in time jump there, which the
+    free-flight step's quadratic load does not hold: the caller takes that step on the physical path.
+    (At a turning point the slope in time is continuous: delta' = 0 there.)
+    """
+    dy = par[q, B_FY] / par[q, B_K]
+    inner = dy * (1.0 - B_ON_SURFACE)
+    s0, s1, s2 = _breakpoints(ca, cb, cc)
+    zm, pm, p1, tp, dp, onset = z, 1.0, 1.0, 0.0, d0, False
+    for i in range(4):
+        tb = s0 if i == 0 else (s1 if i == 1 else (s2 if i == 2 else 1.0))
+        if tb > 1.0 or tb <= tp:
+            continue
+        db = d0 + tb * (ca + tb * (cb + tb * cc))
+        d = db - dp
+        z0 = z
+        z += d
+        slope = 1.0
+        if z >= dy:
+            onset = onset or z0 < inner
+            z, slope = dy, (0.0 if d > 0.0 else 1.0)
+        elif z <= -dy:
+            onset = onset or z0 > -inner
+            z, slope = -dy, (0.0 if d < 0.0 else 1.0)
+        if tb == 0.5:
+            zm, pm = z, slope
+        p1 = slope
+        dp, tp = db, tb
+    return zm, z, pm, p1, onset
+
+
+@njit(cache=True)
+def bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
+    """(z at the step's middle, z and eps at its end, dz/d(delta) at the middle and at the end) of Bouc-Wen
+    storey q along the deformation delta(tau) = d0 + ca tau + cb tau^2 + cc tau^3, tau in [0, 1] (the
+    step's Hermite cubic).
+
+    The law is rate independent, so z follows the path: ``bouc_wen_advance`` over its monotonic
+    pieces, split at the turning points (delta'(tau) = 0).  On a monotonic step one piece, and z at
+    the middle from the cubic Hermite of z in delta through both ends, with the law's slopes there
+    (error of order (delta1 - delta0)^4; derived here); otherwise split at the middle too.
+    """
+    t_a = _turning_points(ca, cb, cc)[0]
     d1 = d0 + ca + cb + cc
     dm = d0 + 0.5 * ca + 0.25 * cb + 0.125 * cc
     if t_a > 1.0:  # monotonic: one piece, the middle by Hermite interpolation in delta
@@ -276,11 +342,7 @@ def bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
         th = (dm - d0) / span if span != 0.0 else 0.5
         zm = _hermite(th, z, p0, z1, p1, span)  # z as a cubic in delta, its slopes the law's
         return zm, z1, eps1, bouc_wen_slope(par, q, zm, eps, span), p1
-    s0, s1, s2 = t_a, t_b, 0.5  # sorted with the middle: s0 <= s1 <= s2
-    if s1 > 0.5:
-        s1, s2 = 0.5, s1
-        if s0 > 0.5:
-            s0, s1 = 0.5, s0
+    s0, s1, s2 = _breakpoints(ca, cb, cc)
     zm = z
     pm = 1.0
     tp = 0.0

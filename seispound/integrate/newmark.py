@@ -243,7 +243,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     hysteretic_flight : bool
         General driver, exact scheme, Bouc-Wen storeys (with or without bilinear ones): while every
         gap is open an analysis step is one exact map with each Bouc-Wen storey's offset force
-        iterated within it (``_general_flight._bouc_wen_flight``; default).  False: those rows take their
+        iterated within it (``_general_flight._hysteretic_flight``; default).  False: those rows take their
         physical path (Newmark substeps) throughout, the reference the tests compare against (the
         two differ by the physical path's time-discretisation error).
     tangent : bool
@@ -482,9 +482,10 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     storeys = ~ne_gap
     codes = tab["ne_code"][storeys]
     bilinear = bool(np.all(codes == BILINEAR))  # every storey piecewise linear (or none)
-    # Bouc-Wen storeys fly free with their terms iterated within the step (exact scheme only: the Newmark
-    # scheme's free flight must equal its physical path to round-off, the off switch's comparison)
-    bouc_wen = bool(np.any(codes == BOUC_WEN) and np.all((codes == BILINEAR) | (codes == BOUC_WEN))
+    # hysteretic storeys fly free with their terms iterated within the step, Bouc-Wen storeys always and
+    # bilinear ones while they yield (exact scheme only: the Newmark scheme's free flight must equal its
+    # physical path to round-off, the off switch's comparison)
+    bouc_wen = bool(storeys.any() and np.all((codes == BILINEAR) | (codes == BOUC_WEN))
                     and scheme == "exact" and hysteretic_flight)
     ff = (_free_flight_maps(lambda: _renumbered_matrices(system, order), dof_motion, tab, ag.shape[0], dt, nm,
                             scheme, 2 ** lev_free, bouc_wen)

@@ -44,7 +44,7 @@ storey's deformation against its elastic range as it screens the gaps.  A Bouc-W
 storey's force is k delta - c with the offset c = (1 - alpha) k (delta - z), which
 changes within the step: with ``quadratic`` the load is the quadratic through c at the
 step's start, middle and end, two more columns per storey (Gq, Egq), and the driver
-iterates the offsets (``_general_flight._bouc_wen_flight``).
+iterates the offsets (``_general_flight._hysteretic_flight``).
 
 Either way the damping work of a step follows from the balance, input =
 kinetic + linear strain + damping (nothing else acts in free flight): exact

@@ -107,7 +107,7 @@ def test_exact_free_flight_keeps_the_energy_balance():
 
 def test_bouc_wen_storeys_fly_free_with_their_offsets_iterated():
     """A smooth hysteresis has no elastic range: its storeys fly free with their offset forces iterated
-    within each step (``_general_flight._bouc_wen_flight``), the scheme says exact, and the off switch puts every
+    within each step (``_general_flight._hysteretic_flight``), the scheme says exact, and the off switch puts every
     step back on the physical path (its accuracy against the twin: ``tests/verification/test_yielding_storeys``)."""
     m, system, rows = _case("yielding storeys", seconds=2.0)
     for b in m.buildings:

@@ -76,15 +76,18 @@ def _run_and_twin(kind, dt, flight=True):
 
 
 # limits at dt = 5 and 2.5 ms on the hysteretic energy's error and on the residual drifts' difference / peak
-# displacement, and on the displacement NE at 5 ms; measured bilinear +5.5e-4, +1.2e-4 and 7.4e-4, 2.0e-4, NE
-# 2.7e-3 (1.9e-3 with exact free flight between yields); Bouc-Wen on Newmark steps throughout -1.6e-4, -1.9e-5
-# and 7.7e-4, 1.6e-4, NE 2.2e-3; Bouc-Wen in free flight (its offsets iterated within the exact step) -6.9e-6,
-# +1.05e-5 and 8.0e-5, 1.6e-5, NE 2.1e-4 and 7.9e-5 at 2.5 ms
+# displacement, and on the displacement NE at 5 ms; measured: bilinear on Newmark steps between its exact free
+# flights while elastic +4.4e-4, +9.3e-5 and 7.4e-4, 1.8e-4, NE 1.9e-3; bilinear in free flight through its
+# yielding too (its offsets iterated within the exact step) +1.3e-4, +2.7e-5 and 2.8e-4, 2.3e-5, NE 1.21e-3 and
+# 1.9e-4 at 2.5 ms; Bouc-Wen on Newmark steps throughout -1.6e-4, -1.9e-5 and 7.7e-4, 1.6e-4, NE 2.2e-3;
+# Bouc-Wen in free flight +6.3e-6, +5.2e-6 and 3.0e-6, 1.5e-6, NE 1.73e-5 and 1.55e-5 at 2.5 ms: the law's own
+# sub-increments (BW_SUBINCREMENT, the 1.2e-5 of the loops above), not the step, so no order is asserted there
 @pytest.mark.parametrize("kind, flight, energy_limits, residual_limits, ne_limit, order",
-                         [("bilinear", True, (1.5e-3, 3e-4), (2e-3, 5e-4), 5e-3, 3.0),
+                         [("bilinear", False, (1.5e-3, 3e-4), (2e-3, 5e-4), 5e-3, 3.0),
+                          ("bilinear", True, (3e-4, 7e-5), (7e-4, 6e-5), 2.5e-3, 3.0),
                           ("bouc-wen", False, (4e-4, 5e-5), (2e-3, 4e-4), 5e-3, 3.0),
-                          ("bouc-wen", True, (2e-5, 3e-5), (2.4e-4, 5e-5), 6e-4, 2.0)],
-                         ids=["bilinear", "bouc-wen-newmark", "bouc-wen-flight"])
+                          ("bouc-wen", True, (1.5e-5, 1.5e-5), (8e-6, 4e-6), 4e-5, None)],
+                         ids=["bilinear-newmark", "bilinear-flight", "bouc-wen-newmark", "bouc-wen-flight"])
 def test_building_under_a_record_equals_the_twin(kind, flight, energy_limits, residual_limits, ne_limit, order):
     errs = []
     for dt, energy_limit, residual_limit in zip((0.005, 0.0025), energy_limits, residual_limits):
@@ -102,18 +105,22 @@ def test_building_under_a_record_equals_the_twin(kind, flight, energy_limits, re
         assert np.abs(residual - residual_ref).max() <= residual_limit * np.abs(ref["u"]).max()
         assert e_h_ref > 0.3 * ref["e_input"][-1]  # the storeys really yield
     print(f"MEASURED {kind} flight={flight}: NE ratio on halving the step {errs[0] / errs[1]:.2f}")
-    assert errs[0] <= ne_limit
-    assert errs[0] / errs[1] >= order  # Newmark: second order (measured 3.58, 3.99); free flight 2.67
+    assert max(errs) <= ne_limit
+    if order is not None:  # Newmark: second order (measured 3.58, 3.99); bilinear in free flight 6.35
+        assert errs[0] / errs[1] >= order
 
 
-# measured: balance 7.1e-15 / 2.6e-15 of the input (round-off: ~10x); input against the twin's +1.9e-4 / -2.2e-4;
-# damping -6.2e-4 / -4.3e-4; largest fall of the hysteretic energy -2.2e-16 (round-off: ~10x) / -1.2e-8 of its
-# largest; Bouc-Wen in free flight: balance 4.5e-15, input +4.6e-5, damping +1.9e-4, fall -1.6e-13
+# measured: balance 3.3e-15 / 4.7e-15 of the input (round-off: ~10x); input against the twin's +3.6e-4 / -2.2e-4;
+# damping +1.9e-4 / -4.3e-4; largest fall of the hysteretic energy -2.2e-16 (round-off: ~10x) / -1.2e-8 of its
+# largest; bilinear in free flight through its yielding: balance 4.2e-13 (the free-flight fixed point's tolerance,
+# 1e-7 fy on a storey's force, where the physical path takes over at the next yield), input +1.1e-4, damping
+# +9.1e-5, fall -2.2e-16; Bouc-Wen in free flight: balance 1.8e-15, input +7.0e-6, damping +9.3e-6, fall -1.6e-13
 @pytest.mark.parametrize("kind, flight, balance_limit, input_limit, damping_limit, fall_limit",
-                         [("bilinear", True, 7e-14, 5e-4, 1.5e-3, 2e-15),
+                         [("bilinear", False, 3e-14, 5e-4, 1.5e-3, 2e-15),
+                          ("bilinear", True, 1.2e-12, 3e-4, 3e-4, 2e-15),
                           ("bouc-wen", False, 3e-14, 5e-4, 1.2e-3, 3e-8),
-                          ("bouc-wen", True, 5e-14, 1.5e-4, 5e-4, 2e-12)],
-                         ids=["bilinear", "bouc-wen-newmark", "bouc-wen-flight"])
+                          ("bouc-wen", True, 2e-14, 2e-5, 2.5e-5, 2e-12)],
+                         ids=["bilinear-newmark", "bilinear-flight", "bouc-wen-newmark", "bouc-wen-flight"])
 def test_energy_balance_with_hysteretic_dissipation(kind, flight, balance_limit, input_limit, damping_limit,
                                                     fall_limit):
     raw, ref = _run_and_twin(kind, 0.005, flight)

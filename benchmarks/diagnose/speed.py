@@ -88,7 +88,11 @@ def _forms(seed, repeat) -> int:
         forms = [("base row", data, [], 0)]
         for hyp in REGISTRY:
             for k, form in enumerate(hyp.forms):
-                table, specs, null = hyp.augment(data, k)
+                try:
+                    table, specs, null = hyp.augment(data, k)
+                except ValueError as err:  # a form that does not apply to this case (``diagnose`` leaves it out too)
+                    print(f"  {hyp.name} / {form.__name__.lstrip('_')}: left out ({err})")
+                    continue
                 forms.append((f"{hyp.name} / {form.__name__.lstrip('_')}", table, list(null.items()), len(specs)))
         observers = []
         for label, table, overrides, _ in forms:
@@ -128,7 +132,11 @@ def _drivers(seed, repeat) -> int:
                  ("gap open, fast", apart, [], "fast"), ("gap open, general", apart, [], "general")]
         for hyp in REGISTRY:
             for k, form in enumerate(hyp.forms):
-                table, _, null = hyp.augment(data, k)
+                try:
+                    table, _, null = hyp.augment(data, k)
+                except ValueError as err:  # a form that does not apply to this case
+                    print(f"  {hyp.name} / {form.__name__.lstrip('_')}: left out ({err})")
+                    continue
                 cases.append((f"{hyp.name} / {form.__name__.lstrip('_')}", table, list(null.items()), "auto"))
         runs = []
         for label, table, overrides, driver in cases:

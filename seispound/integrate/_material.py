@@ -167,7 +167,7 @@ def _bouc_wen_trial(par, committed, trial, q, delta):
     """
     k = par[q, BW_K]
     alpha = par[q, BW_ALPHA]
-    z, eps, dz = bouc_wen_advance(par, q, committed[q, ST_Z], committed[q, ST_EPS], delta - committed[q, ST_DELTA])
+    z, eps, dz = bouc_wen_advance(par, q, committed[q, ST_Z], committed[q, ST_EPS], delta - committed[q, ST_DELTA])[:3]
     trial[q, ST_Z] = z
     trial[q, ST_DELTA] = delta
     trial[q, ST_EPS] = eps
@@ -176,14 +176,16 @@ def _bouc_wen_trial(par, committed, trial, q, delta):
 
 @njit(cache=True, inline="always")
 def bouc_wen_advance(par, q, z, eps, total):
-    """(z, eps, dz/d(total)) of Bouc-Wen storey q after its deformation moves monotonically by ``total`` [m].
+    """(z, eps, dz/d(total), dz/d(delta) at the start, |z/dy|^n and its derivative at the end) of Bouc-Wen storey
+    q after its deformation moves monotonically by ``total`` [m].
 
     z [m] is carried over sub-increments of at most BW_SUBINCREMENT dy, each by the implicit
     trapezoidal rule z1 = z0 + d/2 (Phi(z0) + Phi(z1)), solved by Newton; the tangent is the
     derivative of that map (chain rule over the sub-increments).  Phi and its derivative at the
     end of a sub-increment are those of Newton's last iterate, which the last correction moved
     by at most 1e-15 dy; they serve the tangent and the next sub-increment's start (one ``pow``
-    per iterate, none recomputed).
+    per iterate, none recomputed); the slope at the start and the power at the end are returned for the
+    slopes a path needs (``bouc_wen_path``), so that they cost no further power.
 
     Degradation (Baber & Wen 1981, J. Eng. Mech. Div. 107(6) 1069-1087, Eqs. 5-6):
     nu = 1 + delta_nu eps and eta = 1 + delta_eta eps grow with the hysteretic
@@ -205,11 +207,14 @@ def bouc_wen_advance(par, q, z, eps, total):
     d = total / n_sub
     dz = 0.0  # dz/d(total)
     xn, dxn = _bouc_wen_power(z, dy, n)
-    for _ in range(n_sub):
+    p_start = 0.0
+    for i in range(n_sub):
         nu = 1.0 + dnu * eps
         eta = 1.0 + deta * eps
         pinch, width = _pinching(par, q, eps)
         phi0, dphi0 = _bouc_wen_phi(z, d, xn, dxn, beta, gamma, nu, eta, pinch, width)
+        if i == 0:
+            p_start = phi0
         z1 = z + d * phi0 * (1.0 + 0.5 * d * dphi0)  # second-order Taylor start, closer for Newton
         phi1, dphi1 = phi0, dphi0
         for _ in range(50):
@@ -222,15 +227,20 @@ def bouc_wen_advance(par, q, z, eps, total):
         dz = (dz * (1.0 + 0.5 * d * dphi0) + 0.5 * (phi0 + phi1) / n_sub) / (1.0 - 0.5 * d * dphi1)
         eps += 0.5 * (z + z1) * d / (dy * dy)
         z = z1
-    return z, eps, dz
+    return z, eps, dz, p_start, xn, dxn
 
 
 @njit(cache=True, inline="always")
 def bouc_wen_slope(par, q, z, eps, d):
     """dz/d(delta) [-] of Bouc-Wen storey q at z [m] and energy measure eps, moving in the direction of sign d
     (``_bouc_wen_phi``: Wen 1976 with Baber & Wen's 1981 degradation and Baber & Noori's 1985 pinching)."""
-    dy = par[q, BW_DY]
-    xn, dxn = _bouc_wen_power(z, dy, par[q, BW_N])
+    xn, dxn = _bouc_wen_power(z, par[q, BW_DY], par[q, BW_N])
+    return _slope_at(par, q, z, eps, d, xn, dxn)
+
+
+@njit(cache=True, inline="always")
+def _slope_at(par, q, z, eps, d, xn, dxn):
+    """``bouc_wen_slope`` with |z/dy|^n and its derivative given (``_bouc_wen_power``)."""
     pinch, width = _pinching(par, q, eps)
     return _bouc_wen_phi(z, d, xn, dxn, par[q, BW_BETA], par[q, BW_GAMMA], 1.0 + par[q, BW_DNU] * eps,
                          1.0 + par[q, BW_DETA] * eps, pinch, width)[0]
@@ -339,9 +349,8 @@ def bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
     dm = d0 + 0.5 * ca + 0.25 * cb + 0.125 * cc
     if t_a > 1.0:  # monotonic: one piece, the middle by Hermite interpolation in delta
         span = d1 - d0
-        z1, eps1, _ = _bouc_wen_piece(par, q, z, eps, span)
-        p0 = bouc_wen_slope(par, q, z, eps, span)
-        p1 = bouc_wen_slope(par, q, z1, eps1, span)
+        z1, eps1, _, p0, xn1, dxn1 = _bouc_wen_piece(par, q, z, eps, span)
+        p1 = _slope_at(par, q, z1, eps1, span, xn1, dxn1)  # the power of Newton's last iterate (1e-15 dy off)
         th = (dm - d0) / span if span != 0.0 else 0.5
         zm = _hermite(th, z, p0, z1, p1, span)  # z as a cubic in delta, its slopes the law's
         return zm, z1, eps1, bouc_wen_slope(par, q, zm, eps, span), p1
@@ -355,14 +364,14 @@ def bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
         if tb > 1.0 or tb <= tp:
             continue
         db = d0 + tb * (ca + tb * (cb + tb * cc))
-        z, eps, _ = _bouc_wen_piece(par, q, z, eps, db - dp)
+        z, eps, _, _, xn, dxn = _bouc_wen_piece(par, q, z, eps, db - dp)
+        last = db - dp
         if tb == 0.5:
             zm = z
-            pm = bouc_wen_slope(par, q, z, eps, db - dp)
-        last = db - dp
+            pm = _slope_at(par, q, z, eps, last, xn, dxn)
         dp = db
         tp = tb
-    return zm, z, eps, pm, bouc_wen_slope(par, q, z, eps, last)
+    return zm, z, eps, pm, _slope_at(par, q, z, eps, last, xn, dxn)
 
 
 @njit(cache=True, inline="always")  # inlined: per storey and output step (``_elements.kinetic_energy``)

@@ -47,6 +47,11 @@ def main(argv=None) -> int:
         return _drivers(args.seed, args.repeat)
     from seispound.diagnose import diagnose
 
+    from .generate import FAMILIES
+
+    unknown = sorted(set(args.families.split(",")) - set(FAMILIES))
+    if unknown:
+        ap.error(f"--families: unknown {', '.join(unknown)} (one of {', '.join(FAMILIES)})")
     with tempfile.TemporaryDirectory() as tmp:
         for fam in args.families.split(","):
             f = Path(tmp) / fam

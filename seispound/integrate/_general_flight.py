@@ -52,7 +52,7 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
     u, v = st[0], st[1]
     st_c, active = elem[0], elem[6]
     d0, r0, d1, r1, land_too, gk, g_t, g_1 = ev[0], ev[1], ev[2], ev[3], ev[5], ev[6], ev[7], ev[8]
-    u1, v1, a1, xs, ys, cst, rise, zs, itr = fl
+    u1, v1, a1, xs, ys, cst, rise, zs, itr, corr = fl
     st_elem = ff[10]
     n_itr = 0
     for j in range(st_elem.size):  # F = k delta - c: c = (1 - alpha) k delta_p, fixed while elastic
@@ -74,7 +74,7 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
     rise[rise.size - 1] = 0
     if n_itr > 0:  # Bouc-Wen and yielding bilinear storeys: their terms within the step
         ok, de_bw, dwh = _hysteretic_flight(ff, elg[:5], (st_c, cst), (u, v), (u1, v1, a1),
-                                            xs[xs.size - 2 * g_t.size:], gk, dt, (rise, zs, itr))
+                                            xs[xs.size - 2 * g_t.size:], gk, dt, (rise, zs, itr, corr))
         if not ok:
             return False, energy
         de += de_bw
@@ -260,19 +260,21 @@ def _hysteretic_flight(ff, elg, mat, x0, x1, gs, gk, h, terms):
     the change its updates made in every storey's deformation at the middle and the end, times the law's
     slope there, predicts the next sweep's corrections; when none would exceed BW_FLIGHT_TOL (1 - alpha) k dy
     the sweep is not made and z takes that linear correction instead (one path integration per storey and
-    sweep saved).  Not converged, or a bilinear storey yielding from inside its elastic range (a kink in
-    c(t) that no quadratic holds): the physical path takes the step.
+    sweep saved); a later sweep integrates only the storeys whose own predicted correction exceeds that
+    (the others keep the linear correction, accumulated until the step ends).  Not converged, or a
+    bilinear storey yielding from inside its elastic range (a kink in c(t) that no quadratic holds): the
+    physical path takes the step.
 
     elg = (ne_dof, ne_coef, ne_size, ne_code, ne_par): the elements with state; mat = (st_c, cst); x0 = (u, v)
     the step's start; x1 = (u1, v1, a1) (in: with c0 held) end with the final terms; gs the ground accelerations
-    at the step's start and end (2 nm,); terms = (rise, zs, itr): rise (2 ns + 1) holds dm, d1 and the sweeps
-    made; zs (6 ns) per storey z at the end, eps at the end, the deformation at the end and at the middle of
-    its last integration, and the law's slopes there; itr (ns,) the storeys whose terms are iterated (the
-    others' c stays c0).  The storey's work int (k delta - c) d(delta) is exact for the quadratic c and cubic
+    at the step's start and end (2 nm,); terms = (rise, zs, itr, corr): rise (2 ns + 1) holds dm, d1 and the
+    sweeps made; zs (6 ns) per storey z at the end, eps at the end, the deformation at the end and at the
+    middle of its last integration, and the law's slopes there; itr (ns,) the storeys whose terms are
+    iterated (the others' c stays c0); corr (ns,) each one's predicted next correction.  The storey's work int (k delta - c) d(delta) is exact for the quadratic c and cubic
     delta (3-point Gauss-Legendre; derived here, not read from a source).
     """
     start, st_start, gq = ff[1], ff[11], ff[14]
-    rise, zs, itr = terms
+    rise, itr = terms[0], terms[2]
     o_q = 0
     for c in range(start.size - 1):  # the first guess: the last step's quadratic, extrapolated
         a = start[c]
@@ -286,7 +288,7 @@ def _hysteretic_flight(ff, elg, mat, x0, x1, gs, gk, h, terms):
         o_q += 6 * nb * (st_start[c + 1] - st_start[c])
     for it in range(BW_FLIGHT_ITER):
         rise[rise.size - 1] = it + 1  # sweeps made (the driver's iteration count)
-        if not _hysteretic_sweep(ff, elg, mat, x0, x1, gk, h, terms):
+        if not _hysteretic_sweep(ff, elg, mat, x0, x1, gk, h, terms, it == 0):
             return False, 0.0, 0.0
         if _hysteretic_next(ff, elg, x0, x1, gk, h, terms) <= BW_FLIGHT_TOL:
             de, dwh = _hysteretic_work(ff, elg, mat, x0, x1, gs, gk, h, terms)
@@ -295,23 +297,24 @@ def _hysteretic_flight(ff, elg, mat, x0, x1, gs, gk, h, terms):
 
 
 @njit(cache=True, inline="always")
-def _hysteretic_sweep(ff, elg, mat, x0, x1, gk, h, terms):
-    """One Gauss-Seidel sweep of ``_hysteretic_flight`` over the iterated storeys: each storey's z along its
-    end state's cubic, its rises dm, d1 [N] corrected and added to the end state x1.  False: a bilinear
-    storey yields from inside its elastic range within the step."""
+def _hysteretic_sweep(ff, elg, mat, x0, x1, gk, h, terms, first):
+    """One Gauss-Seidel sweep of ``_hysteretic_flight`` over the iterated storeys (after the ``first``, those
+    whose predicted correction exceeds the tolerance): each storey's z along its end state's cubic, its
+    rises dm, d1 [N] corrected and added to the end state x1.  False: a bilinear storey yields from inside
+    its elastic range within the step."""
     start, st_elem, st_start, gq = ff[1], ff[10], ff[11], ff[14]
     ne_dof, ne_coef, ne_size, ne_code, ne_par = elg[0], elg[1], elg[2], elg[3], elg[4]
     st_c, cst = mat
     u, v = x0
     u1, v1 = x1[0], x1[1]
-    rise, zs, itr = terms
+    rise, zs, itr, corr = terms
     o_q = 0
     for c in range(start.size - 1):
         a = start[c]
         nb = start[c + 1] - a
         for j in range(st_start[c], st_start[c + 1]):
             q = st_elem[j]
-            if not itr[j]:
+            if not itr[j] or (not first and corr[j] <= BW_FLIGHT_TOL):
                 continue
             ds0, rs0 = _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, GU0)
             ds1, rs1 = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
@@ -348,12 +351,12 @@ def _yield_scale(code, par, q):
 def _hysteretic_next(ff, elg, x0, x1, gk, h, terms):
     """The next sweep's largest correction, predicted from how far the last sweep's updates moved each
     iterated storey's deformation at the step's middle and end times the law's slope there, relative
-    to its yield displacement (``_hysteretic_flight``)."""
+    to its yield displacement, each storey's kept in corr (``_hysteretic_flight``)."""
     st_elem = ff[10]
     ne_dof, ne_coef, ne_size, ne_code, ne_par = elg[0], elg[1], elg[2], elg[3], elg[4]
     u, v = x0
     u1, v1 = x1[0], x1[1]
-    zs, itr = terms[1], terms[2]
+    zs, itr, corr = terms[1], terms[2], terms[3]
     pred = 0.0
     for j in range(st_elem.size):
         q = st_elem[j]
@@ -363,8 +366,9 @@ def _hysteretic_next(ff, elg, x0, x1, gk, h, terms):
         ds1, rs1 = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
         dm_ = _hermite(0.5, ds0, rs0, ds1, rs1, h)
         step1, stepm = ds1 - zs[6 * j + 2], dm_ - zs[6 * j + 3]
-        pred = max(pred, (abs((1.0 - zs[6 * j + 4]) * stepm) + abs((1.0 - zs[6 * j + 5]) * step1))
-                   / _yield_scale(ne_code[q], ne_par, q))
+        corr[j] = (abs((1.0 - zs[6 * j + 4]) * stepm) + abs((1.0 - zs[6 * j + 5]) * step1)) / _yield_scale(
+            ne_code[q], ne_par, q)
+        pred = max(pred, corr[j])
     return pred
 
 
@@ -377,7 +381,7 @@ def _hysteretic_work(ff, elg, mat, x0, x1, gs, gk, h, terms):
     cst = mat[1]
     u, v = x0
     u1, v1 = x1[0], x1[1]
-    rise, zs, itr = terms
+    rise, zs, itr = terms[0], terms[1], terms[2]
     nm = gs.size // 2
     de = 0.0
     dwh = 0.0

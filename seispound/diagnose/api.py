@@ -697,6 +697,14 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
         # that ``order`` says may start, best short fit first: decided when a worker is free, so that what the
         # screen and the polishes done have shown by then counts
         while not pool or len(pending) < workers:
+            # the best short fit so far, if clearly better than the recalibrated base, is polished beside the short
+            # fits still queued (on one worker at a time) rather than alone after them
+            form = order.early(ne_base / WITHIN) if pool and queue and not any(
+                k == "polish" for k, _ in pending.values()) else None
+            if form is not None:
+                g, args = send_polish(form)
+                pending[pool.submit(g, *args)] = ("polish", form)
+                continue
             if queue:
                 _, _, t, g, args = heapq.heappop(queue)
                 pending[pool.submit(g, *args) if pool else _Done(g(*args))] = t

@@ -16,7 +16,9 @@ with a better short fit is being polished, and a far form waits until every form
 worker that would otherwise idle takes a waiting form all the same (``speculate``), and the search stops waiting
 for it once it is known not to be needed (``settled``).  What is used is decided on the short fits and on the
 polishes of the forms ranked ahead, never on which worker finished first, so the outcome is the same with one
-worker or several; a polish that ran but is not needed is discarded (its form keeps its short fit).  With ``at``
+worker or several; a polish that ran but is not needed is discarded (its form keeps its short fit).  The best
+short fit so far, when it is clearly better than the recalibrated base, is polished on one worker while the
+others go on with the short fits (``early``), so that its polish does not run alone after them.  With ``at``
 None every polish is needed (``_fit_all`` without a noise estimate).
 """
 
@@ -104,6 +106,22 @@ class PolishOrder:
                 self.running.add(form)
                 return form, dropped
         return None, dropped
+
+    def early(self, clearly: float):
+        """A waiting form to polish before the short fits still queued, or None: the best short fit so far, if it
+        is below ``clearly`` (the recalibrated base's NE over WITHIN: a physics whose short fit already cuts the
+        misfit by that much will be polished in any case unless a better one turns up) and may start now.  Its
+        polish then runs beside the remaining short fits instead of alone after them; like ``speculate``, this
+        changes what the search costs, never what it finds."""
+        if not self.waiting:
+            return None
+        form = min(self.waiting, key=self._rank)
+        ne = self.screen[form]
+        if ne > clearly or ne > min(self.screen.values()) or not self.ready(form):
+            return None
+        self.waiting.discard(form)
+        self.running.add(form)
+        return form
 
     def speculate(self):
         """A waiting form to polish on a worker that would otherwise idle, or None: the best-ranked one that may

@@ -168,6 +168,27 @@ def test_a_speculative_polish_is_used_where_the_form_ranked_ahead_does_not_expla
     assert order.needed((P, 1)) is True and order.settled([])
 
 
+def test_the_best_short_fit_so_far_is_polished_early_only_when_clearly_better_than_the_base():
+    """``early``: the best short fit so far, below the recalibrated base's NE over WITHIN (0.64 / 1.5 = 0.427
+    here), starts before the short fits still queued; one that is not the best so far, or not clearly better,
+    waits for ``next`` as before."""
+    clearly = 0.64 / api.WITHIN
+    screen = {(P, 0): 0.40, (Q, 0): 0.30}
+    order = _order(screen)
+    order.request((P, 0))
+    assert order.early(clearly) is None  # (Q, 0), not yet requested, has the better short fit
+    order.request((Q, 0))
+    assert order.early(clearly) == (Q, 0) and (Q, 0) in order.running and (Q, 0) not in order.waiting
+    screen = {(P, 0): 0.50}
+    order = _order(screen)
+    order.request((P, 0))
+    assert order.early(clearly) is None  # better than the base (0.64), not clearly: waits for the screen
+    screen = {(P, 0): 0.40, (P, 1): 0.38}
+    order = _order(screen)
+    order.request((P, 0))
+    assert order.early(clearly) is None  # its sibling (P, 1) has the better short fit
+
+
 MARK = "SEISPOUND_TEST_POLISH_STARTED"  # environment variable: the file the unneeded polish touches when it starts
 
 

@@ -41,9 +41,9 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
 
     clock = (t_end, dt) [s]; the groups as ``general_kernel`` names them (st, elem, ev, fl: its work
     arrays, ``_general_work``); peaks = (umax, fmax); energy = (input, linear elements' and dampers' work,
-    work on the storeys, contact work) [J].  Returns (accepted, energy): the bilinear storeys' work
-    exactly (an elastic storey's force is linear in its deformation), the Bouc-Wen storeys' along their
-    path, the linear elements' from the balance, input = kinetic + the two, as nothing else acts
+    work on the storeys, contact work) [J].  Returns (accepted, energy): the elastic bilinear storeys' work
+    exactly (their force is linear in their deformation), the iterated storeys' (Bouc-Wen, yielding
+    bilinear) along their path, the linear elements' from the balance, input = kinetic + the two, as nothing else acts
     (``transition.py``).  Not accepted, nothing but the trial arrays changed.
     """
     t_end, dt = clock

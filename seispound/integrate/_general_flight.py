@@ -19,8 +19,8 @@ from ._elements import _deformation_at, kinetic_energy
 from ._events import _event_in_step, _hermite, _screen_elements
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
 from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY
-from ._material import (B_ON_SURFACE, ST_DELTA, ST_EPS, ST_PLASTIC, ST_Q, ST_Z, bilinear_path, bouc_wen_path,
-                        material_commit, material_trial)
+from ._material import (B_ON_SURFACE, ST_DELTA, ST_EPS, ST_PLASTIC, ST_Q, ST_Z, bilinear_dy, bilinear_path,
+                        bouc_wen_path, material_commit, material_trial)
 from ._outputs import S_DOF_STEPS, S_FREE_FLIGHT, S_ITERATIONS, S_STEPS
 
 # a free-flight step's hysteretic terms: the fixed point stops when the next sweep would move no term's rise
@@ -43,8 +43,8 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
     arrays, ``_general_work``); peaks = (umax, fmax); energy = (input, linear elements' and dampers' work,
     work on the storeys, contact work) [J].  Returns (accepted, energy): the elastic bilinear storeys' work
     exactly (their force is linear in their deformation), the iterated storeys' (Bouc-Wen, yielding
-    bilinear) along their path, the linear elements' from the balance, input = kinetic + the two, as nothing else acts
-    (``transition.py``).  Not accepted, nothing but the trial arrays changed.
+    bilinear) along their path, the linear elements' from the balance, input = kinetic + the two, as nothing
+    else acts (``transition.py``).  Not accepted, nothing but the trial arrays changed.
     """
     t_end, dt = clock
     ag, moving, ne_ground = motion
@@ -157,7 +157,7 @@ def _flight_commit(ff, elg, st, elem, ev, fl, peaks, moving):
             if ne_code[q] == BOUC_WEN:
                 st_t[q, ST_Z], st_t[q, ST_EPS], st_t[q, ST_DELTA] = z, zs[6 * j + 1], d1[q]
             else:  # q_h = k z within +-fy, delta_p = delta - z
-                dy = ne_par[q, B_FY] / ne_par[q, B_K]
+                dy = bilinear_dy(ne_par, q)
                 z = min(max(z, -dy), dy)
                 st_t[q, ST_Q], st_t[q, ST_PLASTIC] = ne_par[q, B_K] * z, d1[q] - z
             F[q] = ne_par[q, B_K] * d1[q] - (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * (d1[q] - z)
@@ -270,8 +270,9 @@ def _hysteretic_flight(ff, elg, mat, x0, x1, gs, gk, h, terms):
     at the step's start and end (2 nm,); terms = (rise, zs, itr, corr): rise (2 ns + 1) holds dm, d1 and the
     sweeps made; zs (6 ns) per storey z at the end, eps at the end, the deformation at the end and at the
     middle of its last integration, and the law's slopes there; itr (ns,) the storeys whose terms are
-    iterated (the others' c stays c0); corr (ns,) each one's predicted next correction.  The storey's work int (k delta - c) d(delta) is exact for the quadratic c and cubic
-    delta (3-point Gauss-Legendre; derived here, not read from a source).
+    iterated (the others' c stays c0); corr (ns,) each one's predicted next correction.  The storey's work
+    int (k delta - c) d(delta) is exact for the quadratic c and cubic delta (3-point Gauss-Legendre; derived
+    here, not read from a source).
     """
     start, st_start, gq = ff[1], ff[11], ff[14]
     rise, itr = terms[0], terms[2]
@@ -344,7 +345,7 @@ def _hysteretic_sweep(ff, elg, mat, x0, x1, gk, h, terms, first):
 @njit(cache=True, inline="always")
 def _yield_scale(code, par, q):
     """The displacement [m] z is bounded by: a Bouc-Wen storey's dy, a bilinear storey's fy / k."""
-    return par[q, BW_DY] if code == BOUC_WEN else par[q, B_FY] / par[q, B_K]
+    return par[q, BW_DY] if code == BOUC_WEN else bilinear_dy(par, q)
 
 
 @njit(cache=True, inline="always")

@@ -282,16 +282,21 @@ B_ON_SURFACE = 1e-9
 
 
 @njit(cache=True, inline="always")
-def _breakpoints(ca, cb, cc):
-    """The ends of a path's pieces in (0, 1]: its turning points and the middle 0.5, sorted, then 1.0
-    (a turning point absent: 2.0, skipped by the caller)."""
-    t_a, t_b = _turning_points(ca, cb, cc)
+def _breakpoints(t_a, t_b):
+    """The ends of a path's pieces in (0, 1]: its turning points t_a <= t_b (``_turning_points``) and the
+    middle 0.5, sorted, then 1.0 (a turning point absent: 2.0, skipped by the caller)."""
     s0, s1, s2 = t_a, t_b, 0.5  # sorted with the middle: s0 <= s1 <= s2
     if s1 > 0.5:
         s1, s2 = 0.5, s1
         if s0 > 0.5:
             s0, s1 = 0.5, s0
     return s0, s1, s2
+
+
+@njit(cache=True, inline="always")
+def bilinear_dy(par, q):
+    """The deformation [m] a bilinear storey's hysteretic force reaches fy at from its elastic state: fy / k."""
+    return par[q, B_FY] / par[q, B_K]
 
 
 @njit(cache=True)
@@ -307,9 +312,10 @@ def bilinear_path(par, q, z, d0, ca, cb, cc):
     free-flight step's quadratic load does not hold: the caller takes that step on the physical path.
     (At a turning point the slope in time is continuous: delta' = 0 there.)
     """
-    dy = par[q, B_FY] / par[q, B_K]
+    dy = bilinear_dy(par, q)
     inner = dy * (1.0 - B_ON_SURFACE)
-    s0, s1, s2 = _breakpoints(ca, cb, cc)
+    t_a, t_b = _turning_points(ca, cb, cc)
+    s0, s1, s2 = _breakpoints(t_a, t_b)
     zm, pm, p1, tp, dp, onset = z, 1.0, 1.0, 0.0, d0, False
     for i in range(4):
         tb = s0 if i == 0 else (s1 if i == 1 else (s2 if i == 2 else 1.0))
@@ -344,7 +350,7 @@ def bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
     the middle from the cubic Hermite of z in delta through both ends, with the law's slopes there
     (error of order (delta1 - delta0)^4; derived here); otherwise split at the middle too.
     """
-    t_a = _turning_points(ca, cb, cc)[0]
+    t_a, t_b = _turning_points(ca, cb, cc)
     d1 = d0 + ca + cb + cc
     dm = d0 + 0.5 * ca + 0.25 * cb + 0.125 * cc
     if t_a > 1.0:  # monotonic: one piece, the middle by Hermite interpolation in delta
@@ -354,7 +360,7 @@ def bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
         th = (dm - d0) / span if span != 0.0 else 0.5
         zm = _hermite(th, z, p0, z1, p1, span)  # z as a cubic in delta, its slopes the law's
         return zm, z1, eps1, bouc_wen_slope(par, q, zm, eps, span), p1
-    s0, s1, s2 = _breakpoints(ca, cb, cc)
+    s0, s1, s2 = _breakpoints(t_a, t_b)
     zm = z
     pm = 1.0
     tp = 0.0

@@ -254,6 +254,7 @@ def calibrate_observer(observer, params, progress=True, max_evaluations=None, wr
         return [(p.path, p.value_at(base_values[p.path], x)) for p, x in zip(params, values(y))]
 
     first = []  # the simulation at the start: least_squares evaluates there first
+    kept = {}  # the KEPT lowest-misfit evaluations' simulations, by their point: the fit ends at one of them
 
     def residual(y):
         sims = observer.simulate(overrides(y))
@@ -261,6 +262,9 @@ def calibrate_observer(observer, params, progress=True, max_evaluations=None, wr
             first.append(sims)
         r = np.concatenate([(s[cid] - rec[cid]) / nrm[cid] for s, rec, nrm in zip(sims, recs, norms) for cid in rec])
         history.append((values(y), float(r @ r)))
+        kept[np.asarray(y, float).tobytes()] = (float(r @ r), sims)
+        if len(kept) > KEPT:
+            kept.pop(max(kept, key=lambda k: kept[k][0]))
         if progress:
             print(f"\r  simulation {observer.evaluations}: sum of NE^2 {r @ r:.6g}   ", end="", file=sys.stderr,
                   flush=True)
@@ -275,7 +279,8 @@ def calibrate_observer(observer, params, progress=True, max_evaluations=None, wr
     ne_before = {t.name: normalised_errors(s, r) for t, s, r in zip(observer.trials, sims0, recs)}
     if progress:
         print(file=sys.stderr)
-    sims = observer.simulate(overrides(fit.x))
+    # least_squares returns a point it evaluated (its last accepted step), almost always among the best kept
+    sims = kept[fit.x.tobytes()][1] if fit.x.tobytes() in kept else observer.simulate(overrides(fit.x))
     ne_after = {t.name: normalised_errors(s, r) for t, s, r in zip(observer.trials, sims, recs)}
     cov_w, n, n_eff, bins = _covariance(fit, recs)
     cov_y = cov_w * np.outer(b, b)
@@ -308,6 +313,8 @@ def calibrate_observer(observer, params, progress=True, max_evaluations=None, wr
         p["half68"] = interval68(p["stderr"], p["dof"])
     return res
 
+
+KEPT = 4  # simulations a fit keeps (its lowest misfits), so that its result needs no simulation of its own
 
 Z68 = 0.8413447460685429  # the normal distribution's value at one standard deviation: a 68.27 % interval
 
@@ -446,8 +453,11 @@ def _covariance(fit, recs):
     meat, start, bins = np.zeros((p, p)), 0, []
     for rec in recs:
         size = sum(x.size for x in rec.values())
-        meat += _trial_meat(J[start:start + size], r[start:start + size], len(rec), H)
-        bins.append(_dof_bins(J[start:start + size], r[start:start + size], len(rec), H))
+        # zero-padded to twice the length: its even bins are the unpadded spectrum's (the same sums), which the
+        # degrees of freedom take
+        spectra = _hc3_spectra(J[start:start + size], r[start:start + size], len(rec), H, 2 * (size // len(rec)))
+        meat += _trial_meat(*spectra, size // len(rec))
+        bins.append(_dof_bins(*(x[::2] if x.ndim == 1 else x[:, ::2] for x in spectra), H))
         start += size
     bins = np.concatenate(bins)
     share = np.max(np.abs(np.diagonal(bins, axis1=1, axis2=2)), axis=1)
@@ -465,30 +475,27 @@ DOF_BINS = 256  # bins kept per fit for the degrees of freedom: a Jacobian lives
 DANIELL = 5  # the working model's cross-spectral matrix is smoothed over this many bins
 
 
-def _dof_bins(J, r, channels, H):
+def _dof_bins(JF, RF, w, H):
     """One trial's expected contributions of single (unpadded, independent) frequency bins to the
     (log-)parameters' covariance, (bins, p, p), up to a common factor: w_f H Re(J(f)^H S(f) J(f)) H with S(f)
     the HC3-corrected residual's cross-spectral matrix over the channels, smoothed over DANIELL bins (the
-    working model of Satterthwaite's degrees of freedom, module docstring)."""
+    working model of Satterthwaite's degrees of freedom, module docstring).  JF (channels, bins, p), RF
+    (channels, bins), w (bins,): ``_hc3_spectra`` over the unpadded length; H = (J^T J)^-1 (p, p)."""
     from scipy.ndimage import uniform_filter1d
 
-    JF, RF, w = _hc3_spectra(J, r, channels, H, r.size // channels)
     S = np.einsum("cf,df->fcd", RF, RF.conj())
     S = uniform_filter1d(S.real, DANIELL, axis=0) + 1j * uniform_filter1d(S.imag, DANIELL, axis=0)
-    B = np.einsum("cfp,pq->fcq", JF, H)  # J(f) H per channel
+    B = (JF @ H).transpose(1, 0, 2)  # J(f) H per channel: (bins, channels, p)
     return w[:, None, None] * np.real(np.conj(B).transpose(0, 2, 1) @ (S @ B))
 
 
-def _trial_meat(J, r, channels, H):
-    """J^T S J of one trial (its channels share the time grid), HC3-corrected per frequency bin.
-
-    J: (channels * N, p), r: (channels * N,), H = (J^T J)^-1 of the whole fit (p, p).
-    """
-    n = r.size // channels
+def _trial_meat(JF, RF, w, n):
+    """J^T S J of one trial (its channels share the time grid), HC3-corrected per frequency bin: sum_f w_f Z(f)
+    Z(f)^H / (nfft n), Z(f) = sum over channels of conj(J_c(f)) R_c(f), from its spectra (``_hc3_spectra``)
+    zero-padded to nfft = 2 n, n the samples per channel."""
     nfft = 2 * n  # zero-padded: the sample autocovariance at every lag, none wrapped round
-    JF, RF, w = _hc3_spectra(J, r, channels, H, nfft)
-    Z = np.einsum("cfp,cf->fp", JF.conj(), RF)
-    return np.real(np.einsum("f,fp,fq->pq", w, Z, Z.conj())) / (nfft * n)
+    Z = np.sum(JF.conj() * RF[..., None], axis=0)  # (bins, p)
+    return np.real((Z.T * w) @ Z.conj()) / (nfft * n)
 
 
 def _hc3_spectra(J, r, channels, H, nfft):
@@ -503,7 +510,7 @@ def _hc3_spectra(J, r, channels, H, nfft):
     w[0] = 1.0
     if nfft % 2 == 0:
         w[-1] = 1.0
-    h = np.real(np.einsum("cfp,pq,cfq->cf", JF.conj(), H, JF)) * w / n  # leverage of each bin of width 1/T
+    h = np.real(np.sum((JF @ H) * JF.conj(), axis=-1)) * w / n  # leverage of each bin of width 1/T
     return JF, RF / (1.0 - np.clip(h, 0.0, 0.9)), w
 
 

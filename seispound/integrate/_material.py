@@ -124,6 +124,36 @@ def _bouc_wen_power(z, dy, n):
     return xn1 * x, n * xn1 / dy * (1.0 if z > 0.0 else -1.0)
 
 
+# |z / dy|^n is carried from a nearby z by its binomial series where z moved by at most this fraction of itself
+BW_SERIES_REACH = 0.05
+
+
+@njit(cache=True, inline="always")
+def _bouc_wen_power_near(z, dy, n, z0, xn0):
+    """``_bouc_wen_power`` at z, given xn0 = |z0 / dy|^n at a nearby z0 of the same sign.
+
+    Where |z / z0 - 1| = |r| <= BW_SERIES_REACH, |z/dy|^n = xn0 (1 + r)^n by the binomial series
+    sum_k C(n, k) r^k, summed until a term is below 1e-17 of the sum: a few products instead of an
+    exponential and a logarithm (Newton's iterates within a sub-increment move z by 1e-5 of itself
+    and less; one sub-increment moves it by at most BW_SUBINCREMENT dy).  Elsewhere, and at the
+    exponents 1 and 2, the power itself.  The series' truncation is below 1e-16 of the power
+    (|r| <= 0.05: a term is at most 0.05 times the one before, and the sum stops below 1e-17).
+    """
+    if n == 2.0 or n == 1.0 or xn0 == 0.0 or z * z0 <= 0.0:
+        return _bouc_wen_power(z, dy, n)
+    r = (z - z0) / z0
+    if abs(r) > BW_SERIES_REACH:
+        return _bouc_wen_power(z, dy, n)
+    term, total = 1.0, 1.0
+    for k in range(1, 24):
+        term *= r * (n - k + 1.0) / k
+        total += term
+        if abs(term) <= 1e-17 * total:
+            break
+    xn = xn0 * total
+    return xn, n * xn / z
+
+
 @njit(cache=True, inline="always")
 def _bouc_wen_phi(z, d, xn, dxn, beta, gamma, nu, eta, pinch, width):
     """dz/d(delta) of the Bouc-Wen model with A = 1 and its derivative in z, for a step of sign d.
@@ -183,9 +213,10 @@ def bouc_wen_advance(par, q, z, eps, total):
     trapezoidal rule z1 = z0 + d/2 (Phi(z0) + Phi(z1)), solved by Newton; the tangent is the
     derivative of that map (chain rule over the sub-increments).  Phi and its derivative at the
     end of a sub-increment are those of Newton's last iterate, which the last correction moved
-    by at most 1e-15 dy; they serve the tangent and the next sub-increment's start (one ``pow``
-    per iterate, none recomputed); the slope at the start and the power at the end are returned for the
-    slopes a path needs (``bouc_wen_path``), so that they cost no further power.
+    by at most 1e-15 dy; they serve the tangent and the next sub-increment's start (one power
+    per iterate, none recomputed, each carried from the one before by its binomial series where z
+    moved little: ``_bouc_wen_power_near``); the slope at the start and the power at the end are
+    returned for the slopes a path needs (``bouc_wen_path``), so that they cost no further power.
 
     Degradation (Baber & Wen 1981, J. Eng. Mech. Div. 107(6) 1069-1087, Eqs. 5-6):
     nu = 1 + delta_nu eps and eta = 1 + delta_eta eps grow with the hysteretic
@@ -207,6 +238,7 @@ def bouc_wen_advance(par, q, z, eps, total):
     d = total / n_sub
     dz = 0.0  # dz/d(total)
     xn, dxn = _bouc_wen_power(z, dy, n)
+    zp = z  # where xn was taken: each power is carried from the one before (``_bouc_wen_power_near``)
     p_start = 0.0
     for i in range(n_sub):
         nu = 1.0 + dnu * eps
@@ -218,7 +250,8 @@ def bouc_wen_advance(par, q, z, eps, total):
         z1 = z + d * phi0 * (1.0 + 0.5 * d * dphi0)  # second-order Taylor start, closer for Newton
         phi1, dphi1 = phi0, dphi0
         for _ in range(50):
-            xn, dxn = _bouc_wen_power(z1, dy, n)
+            xn, dxn = _bouc_wen_power_near(z1, dy, n, zp, xn)
+            zp = z1
             phi1, dphi1 = _bouc_wen_phi(z1, d, xn, dxn, beta, gamma, nu, eta, pinch, width)
             step = (z1 - z - 0.5 * d * (phi0 + phi1)) / (1.0 - 0.5 * d * dphi1)
             z1 -= step
@@ -231,16 +264,10 @@ def bouc_wen_advance(par, q, z, eps, total):
 
 
 @njit(cache=True, inline="always")
-def bouc_wen_slope(par, q, z, eps, d):
-    """dz/d(delta) [-] of Bouc-Wen storey q at z [m] and energy measure eps, moving in the direction of sign d
-    (``_bouc_wen_phi``: Wen 1976 with Baber & Wen's 1981 degradation and Baber & Noori's 1985 pinching)."""
-    xn, dxn = _bouc_wen_power(z, par[q, BW_DY], par[q, BW_N])
-    return _slope_at(par, q, z, eps, d, xn, dxn)
-
-
-@njit(cache=True, inline="always")
 def _slope_at(par, q, z, eps, d, xn, dxn):
-    """``bouc_wen_slope`` with |z/dy|^n and its derivative given (``_bouc_wen_power``)."""
+    """dz/d(delta) [-] of Bouc-Wen storey q at z [m] and energy measure eps, moving in the direction of sign d, with
+    |z/dy|^n and its derivative given (``_bouc_wen_power``; the law: ``_bouc_wen_phi``, Wen 1976 with Baber &
+    Wen's 1981 degradation and Baber & Noori's 1985 pinching)."""
     pinch, width = _pinching(par, q, eps)
     return _bouc_wen_phi(z, d, xn, dxn, par[q, BW_BETA], par[q, BW_GAMMA], 1.0 + par[q, BW_DNU] * eps,
                          1.0 + par[q, BW_DETA] * eps, pinch, width)[0]
@@ -359,7 +386,8 @@ def bouc_wen_path(par, q, z, eps, d0, ca, cb, cc):
         p1 = _slope_at(par, q, z1, eps1, span, xn1, dxn1)  # the power of Newton's last iterate (1e-15 dy off)
         th = (dm - d0) / span if span != 0.0 else 0.5
         zm = _hermite(th, z, p0, z1, p1, span)  # z as a cubic in delta, its slopes the law's
-        return zm, z1, eps1, bouc_wen_slope(par, q, zm, eps, span), p1
+        xm, dxm = _bouc_wen_power_near(zm, par[q, BW_DY], par[q, BW_N], z1, xn1)
+        return zm, z1, eps1, _slope_at(par, q, zm, eps, span, xm, dxm), p1
     s0, s1, s2 = _breakpoints(t_a, t_b)
     zm = z
     pm = 1.0

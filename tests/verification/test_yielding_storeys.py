@@ -31,9 +31,10 @@ def _twin_law(kind, k=K, dy=DY, n=2.0):
     return dict(kind=kind, k=k, alpha=ALPHA, dy=dy, fy=k * dy, n=n, beta=0.5, gamma=0.5)
 
 
-# limit on the loop force's error / peak: measured 6.1e-6, 2.2e-5, 1.2e-5, 3.7e-5
+# limit on the loop force's error / peak: measured 6.1e-6, 2.2e-5, 1.2e-5, 1.4e-5, 3.7e-5
 @pytest.mark.parametrize("kind, n, limit", [("bilinear", None, 1.5e-5), ("bouc-wen", 1.0, 6e-5),
-                                            ("bouc-wen", 2.0, 3e-5), ("bouc-wen", 10.0, 1e-4)])
+                                            ("bouc-wen", 2.0, 3e-5), ("bouc-wen", 2.7, 3e-5),
+                                            ("bouc-wen", 10.0, 1e-4)])
 def test_loops_under_imposed_cyclic_drift_equal_the_twin(kind, n, limit):
     """Three cycles growing from 0.4 to 4 dy; the force at 4000 samples."""
     t = np.linspace(0.0, 3.0, 4001)

@@ -155,7 +155,25 @@ def _bouc_wen_power_near(z, dy, n, z0, xn0):
 
 
 @njit(cache=True, inline="always")
-def _bouc_wen_phi(z, d, xn, dxn, beta, gamma, nu, eta, pinch, width):
+def _gauss_near(z, width, z0, e0):
+    """exp(-(z / width)^2) [-], given e0, its value at a nearby z0: e0 exp(-a), a = (z - z0)(z + z0) / width^2,
+    by the exponential series where |a| <= BW_SERIES_REACH (summed until a term is below 1e-17 of the sum;
+    the pinching function's Gaussian, carried between Newton's iterates as ``_bouc_wen_power_near`` carries the
+    power); elsewhere the exponential itself."""
+    a = (z - z0) * (z + z0) / (width * width)
+    if e0 == 0.0 or abs(a) > BW_SERIES_REACH:
+        return np.exp(-(z / width) ** 2)
+    term, total = 1.0, 1.0
+    for k in range(1, 24):
+        term *= -a / k
+        total += term
+        if abs(term) <= 1e-17 * total:
+            break
+    return e0 * total
+
+
+@njit(cache=True, inline="always")
+def _bouc_wen_phi(z, d, xn, dxn, beta, gamma, nu, eta, pinch, width, gauss):
     """dz/d(delta) of the Bouc-Wen model with A = 1 and its derivative in z, for a step of sign d.
 
     Phi = h(z) (1 - nu |z/dy|^n (beta sgn(d z) + gamma)) / eta (Wen 1976, J. Eng. Mech. Div.
@@ -164,13 +182,13 @@ def _bouc_wen_phi(z, d, xn, dxn, beta, gamma, nu, eta, pinch, width):
     xn, dxn: |z/dy|^n and its derivative (``_bouc_wen_power``).  h(z) = 1 - zeta_1 exp(-(z / w)^2)
     is Baber & Noori's (1985, J. Eng. Mech. 111(8) 1010-1026) pinching function in Foliente's (1995,
     J. Struct. Eng. 121(6) 1013-1022) form with q = 0 (the pinch centred at z = 0); pinch = zeta_1 [-],
-    width = w [m]; pinch 0: no pinching.
+    width = w [m]; pinch 0: no pinching; gauss: exp(-(z / w)^2) [-] (unused without pinching).
     """
     c = beta * (1.0 if d * z >= 0.0 else -1.0) + gamma
     phi, dphi = (1.0 - nu * xn * c) / eta, -nu * c * dxn / eta
     if pinch == 0.0:
         return phi, dphi
-    g = pinch * np.exp(-(z / width) ** 2)
+    g = pinch * gauss
     return (1.0 - g) * phi, (1.0 - g) * dphi + 2.0 * g * z / (width * width) * phi
 
 
@@ -238,21 +256,25 @@ def bouc_wen_advance(par, q, z, eps, total):
     d = total / n_sub
     dz = 0.0  # dz/d(total)
     xn, dxn = _bouc_wen_power(z, dy, n)
-    zp = z  # where xn was taken: each power is carried from the one before (``_bouc_wen_power_near``)
+    pinched = par[q, BW_PINCH] != 0.0
+    gauss = np.exp(-(z / (par[q, BW_PINCH_WIDTH] * dy)) ** 2) if pinched else 0.0
+    zp = z  # where xn and gauss were taken: each is carried from the one before (``_bouc_wen_power_near``)
     p_start = 0.0
     for i in range(n_sub):
         nu = 1.0 + dnu * eps
         eta = 1.0 + deta * eps
         pinch, width = _pinching(par, q, eps)
-        phi0, dphi0 = _bouc_wen_phi(z, d, xn, dxn, beta, gamma, nu, eta, pinch, width)
+        phi0, dphi0 = _bouc_wen_phi(z, d, xn, dxn, beta, gamma, nu, eta, pinch, width, gauss)
         if i == 0:
             p_start = phi0
         z1 = z + d * phi0 * (1.0 + 0.5 * d * dphi0)  # second-order Taylor start, closer for Newton
         phi1, dphi1 = phi0, dphi0
         for _ in range(50):
             xn, dxn = _bouc_wen_power_near(z1, dy, n, zp, xn)
+            if pinched:
+                gauss = _gauss_near(z1, width, zp, gauss)
             zp = z1
-            phi1, dphi1 = _bouc_wen_phi(z1, d, xn, dxn, beta, gamma, nu, eta, pinch, width)
+            phi1, dphi1 = _bouc_wen_phi(z1, d, xn, dxn, beta, gamma, nu, eta, pinch, width, gauss)
             step = (z1 - z - 0.5 * d * (phi0 + phi1)) / (1.0 - 0.5 * d * dphi1)
             z1 -= step
             if abs(step) <= 1e-15 * dy:
@@ -269,8 +291,9 @@ def _slope_at(par, q, z, eps, d, xn, dxn):
     |z/dy|^n and its derivative given (``_bouc_wen_power``; the law: ``_bouc_wen_phi``, Wen 1976 with Baber &
     Wen's 1981 degradation and Baber & Noori's 1985 pinching)."""
     pinch, width = _pinching(par, q, eps)
+    gauss = np.exp(-(z / width) ** 2) if pinch != 0.0 else 0.0
     return _bouc_wen_phi(z, d, xn, dxn, par[q, BW_BETA], par[q, BW_GAMMA], 1.0 + par[q, BW_DNU] * eps,
-                         1.0 + par[q, BW_DETA] * eps, pinch, width)[0]
+                         1.0 + par[q, BW_DETA] * eps, pinch, width, gauss)[0]
 
 
 @njit(cache=True)

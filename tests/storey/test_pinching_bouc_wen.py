@@ -27,13 +27,13 @@ def _drift(t):
     return growing_drift(t, DY)
 
 
-def _twin(t_eval, pinch):
+def _twin(t_eval, pinch, n=N_EXP):
     def rhs(t, y):
         z, eps = y
         _, v = _drift(t)
         s = 1.0 if v * z >= 0 else -1.0
         h = 1 - pinch * (1 - np.exp(-RATE * max(eps, 0.0))) * np.exp(-(z / (WIDTH * DY)) ** 2)
-        return [v * h * (1 - abs(z / DY) ** N_EXP * (BETA * s + GAMMA)), z * v / DY ** 2]
+        return [v * h * (1 - abs(z / DY) ** n * (BETA * s + GAMMA)), z * v / DY ** 2]
 
     sol = solve_ivp(rhs, (0, t_eval[-1]), [0.0, 0.0], t_eval=t_eval, method="LSODA", rtol=1e-10, atol=1e-14,
                     max_step=1e-3)
@@ -41,9 +41,9 @@ def _twin(t_eval, pinch):
     return ALPHA * K * d + (1 - ALPHA) * K * sol.y[0]
 
 
-def _package(t_eval, pinch):
+def _package(t_eval, pinch, n=N_EXP):
     par = np.zeros((1, N_PAR))
-    law = StoreyLaw(kind="bouc-wen", yield_drift=DY, post_yield_ratio=ALPHA, n=N_EXP, beta=BETA, gamma=GAMMA,
+    law = StoreyLaw(kind="bouc-wen", yield_drift=DY, post_yield_ratio=ALPHA, n=n, beta=BETA, gamma=GAMMA,
                     pinching=pinch, pinching_rate=RATE, pinching_width=WIDTH)
     law.validate(1)
     par[:, :C.N_STOREY_PAR] = law.kernel_rows([K], C.N_STOREY_PAR)[1]
@@ -51,13 +51,16 @@ def _package(t_eval, pinch):
     return out, committed, par
 
 
-def test_force_history_matches_the_twin():
+# limit on the force error / peak: measured 1.22e-4 at n = 2 and at n = 1.6 (the power and the pinching's Gaussian
+# carried by their series between Newton's iterates)
+@pytest.mark.parametrize("n, limit", [(2.0, 4e-4), (1.6, 4e-4)])
+def test_force_history_matches_the_twin(n, limit):
     t = np.arange(0, 6.0 + 1e-9, 1 / 400)
-    ref = _twin(t, PINCH)
-    got = _package(t, PINCH)[0]
+    ref = _twin(t, PINCH, n)
+    got = _package(t, PINCH, n)[0]
     err = np.max(np.abs(got - ref)) / np.max(np.abs(ref))
-    print(f"MEASURED pinching Bouc-Wen: max force error {err:.2e} of the peak")
-    assert err < 4e-4
+    print(f"MEASURED pinching Bouc-Wen, n = {n}: max force error {err:.2e} of the peak")
+    assert err < limit
 
 
 def test_pinching_softens_the_reloading_branch_near_zero_force():

@@ -127,31 +127,45 @@ class Diagnosis:
         return "\n".join(lines)
 
 
-def _recalibrate(data, params, base, chans, trial_list, max_evaluations, noise_ne):
+def _recalibrate(data, params, base, chans, trial_list, max_evaluations, noise_ne, jobs=1):
     """The base model's own parameters fitted from the nominal values (calibrate's step), then polished with the
     hypotheses' step; if that leaves the misfit above 1.5 times the noise's NE, fitted again from the best
     STARTS points of a Sobol scan (``_scan_starts``) and the best kept: wrong parameters also have local
-    minima."""
+    minima.  The fits from the scan's points are independent: with ``jobs`` > 1 they run in parallel processes,
+    each through its own Observer as with one job, so that the outcome is the same."""
     from ..calibrate.observe import Observer
     from ..model.paths import get_value
 
-    obs = Observer(data, base, chans, trial_list)
-
-    def fit_from(starts):
-        return _base_fit_from(obs, params, starts, max_evaluations)
-
-    best = fit_from({})
+    task = (data, params, base, chans, trial_list, max_evaluations)
+    best = _base_fit_task(task, {})
     if best.ne_mean_after <= 1.5 * noise_ne:
         return best
+    obs = Observer(data, base, chans, trial_list)
     recs = _recorded(chans, trial_list)
     scored = []
     for starts in _scan_starts(params):
         over = [(p.path, p.value_at(get_value(data, p.path), starts[p.path])) for p in params]
         scored.append((_sum_ne2(obs.simulate(over), recs), len(scored), starts))
-    for _, _, starts in sorted(scored)[:STARTS]:
-        other = fit_from(starts)
+    chosen = [starts for _, _, starts in sorted(scored)[:STARTS]]
+    if jobs > 1 and len(chosen) > 1:
+        from concurrent.futures import ProcessPoolExecutor
+
+        with ProcessPoolExecutor(max_workers=min(jobs, len(chosen))) as pool:
+            others = list(pool.map(_base_fit_task, [task] * len(chosen), chosen))
+    else:
+        others = [_base_fit_task(task, starts) for starts in chosen]
+    for other in others:  # in the scan's order, as they were chosen
         best = other if other.ne_mean_after < best.ne_mean_after else best
     return best
+
+
+def _base_fit_task(task, starts):
+    """``_base_fit_from`` through an Observer of its own: task = (data, params, base, chans, trial_list,
+    max_evaluations)."""
+    from ..calibrate.observe import Observer
+
+    data, params, base, chans, trial_list, max_evaluations = task
+    return _base_fit_from(Observer(data, base, chans, trial_list), params, starts, max_evaluations)
 
 
 def _base_fit_from(obs, params, starts, max_evaluations):
@@ -482,7 +496,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     for path, why in held.items():
         say(f"{path}: held as given ({why})")
     noise_ne = float(np.mean([_noise_ne(t, c.id) for t in trial_list for c in chans]))
-    base_fit = _recalibrate(data, base_params, base, chans, trial_list, max_evaluations, noise_ne)
+    base_fit = _recalibrate(data, base_params, base, chans, trial_list, max_evaluations, noise_ne, jobs)
     recal = tomllib.loads(base_fit.model_text)
     n, n_eff = base_fit.n, base_fit.n_eff
     rss_base = _rss(base_fit)

@@ -146,3 +146,32 @@ def test_gaussian_carried_by_its_series_equals_the_exponential():
         worst = max(worst, float(abs(_gauss_near(z, width, z0, e0) - exact) / exact))
     print(f"MEASURED the Gaussian's series against the exponential, worst {worst:.1e} of it")
     assert worst <= 1.5e-15
+
+
+# at n = 2.7 (a fit's exponent: the power carried by its series along the path), limits on |zm - ref|, |z1 - ref|
+# [dy] about 3 times the measured: monotonic 2.7e-6, 5.6e-6; turn-larger-root 2.8e-6, 2.8e-6; turn-smaller-root
+# 1.3e-15, 1.4e-6; two-turns 2.0e-8, 3.9e-8 (the law's sub-increments against the samples', as at n = 2)
+LIMITS_N27 = {"monotonic": (8e-6, 1.7e-5), "turn-larger-root": (8.4e-6, 8.4e-6),
+              "turn-smaller-root": (4e-15, 4.2e-6), "two-turns": (6e-8, 1.2e-7)}
+
+
+@pytest.mark.parametrize("name", list(PATHS))
+def test_bouc_wen_path_at_a_non_integer_exponent_equals_the_law_stepped_along_it(name):
+    d0, ca, cb, cc = (0.25 * c for c in PATHS[name])
+    law = StoreyLaw(kind="bouc-wen", yield_drift=DY, post_yield_ratio=ALPHA, n=2.7)
+    code, par = law.kernel_rows([K], 44)
+    code, par = int(code[0]), par[:1].copy()
+    z0 = 0.3 * DY
+    zm, z1, _, _, _ = bouc_wen_path(par, 0, z0, 0.0, d0, ca, cb, cc)
+    committed = _state("bouc-wen", z0, d0)
+    trial = committed.copy()
+    tau = np.linspace(0.0, 1.0, 20001)
+    path = d0 + tau * (ca + tau * (cb + tau * cc))
+    ref = {}
+    for i in range(1, tau.size):
+        material_trial(code, par, committed, trial, 0, path[i], 0.0)
+        material_commit(committed, trial, 0)
+        ref[i] = committed[0, ST_Z]
+    err_m, err_1 = abs(zm - ref[10000]) / DY, abs(z1 - ref[20000]) / DY
+    print(f"MEASURED {name}, n = 2.7: |zm - ref| {err_m:.1e} dy, |z1 - ref| {err_1:.1e} dy")
+    assert err_m <= LIMITS_N27[name][0] and err_1 <= LIMITS_N27[name][1]

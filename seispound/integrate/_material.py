@@ -124,7 +124,8 @@ def _bouc_wen_power(z, dy, n):
     return xn1 * x, n * xn1 / dy * (1.0 if z > 0.0 else -1.0)
 
 
-# |z / dy|^n is carried from a nearby z by its binomial series where n times z's relative move is at most this
+# |z / dy|^n is carried from a nearby z by its binomial series where z's relative move is at most this (and n
+# times it at most twice this)
 BW_SERIES_REACH = 0.05
 
 
@@ -132,18 +133,19 @@ BW_SERIES_REACH = 0.05
 def _bouc_wen_power_near(z, dy, n, z0, xn0):
     """``_bouc_wen_power`` at z, given xn0 = |z0 / dy|^n at a nearby z0 of the same sign.
 
-    Where n |z / z0 - 1| = n |r| <= BW_SERIES_REACH, |z/dy|^n = xn0 (1 + r)^n by the binomial series
+    Where |z / z0 - 1| = |r| <= BW_SERIES_REACH and n |r| <= 2 BW_SERIES_REACH, |z/dy|^n = xn0 (1 + r)^n by
+    the binomial series
     sum_k C(n, k) r^k, summed until a term is below 1e-17 of the sum: a few products instead of an
     exponential and a logarithm (Newton's iterates within a sub-increment move z by 1e-5 of itself
     and less; one sub-increment moves it by at most BW_SUBINCREMENT dy).  Elsewhere, and at the
     exponents 1 and 2, the power itself.  The series' truncation is below 1e-16 of the power: each
-    term is |r (n - k + 1) / k| <= n |r| <= 0.05 times the one before, so what follows the last one
-    summed is under 0.06 of it (derived here).
+    term is |r (n - k + 1) / k| <= max(n, 1) |r| <= 0.1 times the one before (n >= 1, the law's bound), so
+    what follows the last one summed is under 0.12 of it (derived here).
     """
     if n == 2.0 or n == 1.0 or xn0 == 0.0 or z * z0 <= 0.0:
         return _bouc_wen_power(z, dy, n)
     r = (z - z0) / z0
-    if abs(r) * n > BW_SERIES_REACH:  # (n >= 1: the law's bound)
+    if abs(r) > BW_SERIES_REACH or abs(r) * n > 2.0 * BW_SERIES_REACH:
         return _bouc_wen_power(z, dy, n)
     term, total = 1.0, 1.0
     for k in range(1, 24):

@@ -4,7 +4,7 @@
 (``benchmarks.scaling``: 20 s of El Centro 180, dt = 0.005 s, Hd, 2 cm gaps;
 4 x 10 to 4 x 100 storeys and 4 and 16 pairs colliding at different times)
 and the canonical row of three through a *counting copy* of the kernel: the
-source of ``seispound/integrate/_kernel.py`` with counters inserted at fixed
+source of ``seispound/integrate/_driver.py`` (the time loop) with counters inserted at fixed
 anchors (each must occur exactly once, so a changed kernel fails loudly here
 instead of being counted wrongly), compiled without cache.  The counting copy
 computes the same numbers as the kernel (``tests/test_attempts.py`` checks it
@@ -50,7 +50,7 @@ import numpy as np
 import seispound.integrate.newmark as newmark_module
 from seispound.integrate import Newmark
 
-KERNEL = Path(newmark_module.__file__).with_name("_kernel.py")
+KERNEL = Path(newmark_module.__file__).with_name("_driver.py")
 
 # probe entries
 P_ATTEMPTS, P_DOF_ATTEMPTS, P_MULTIRATE, P_CONTACT_ATTEMPTS, P_CLOSED_SUM = 0, 1, 2, 3, 4
@@ -61,31 +61,32 @@ N_PROBE = 5
 # closed or targeted gap's buildings in it (X = N_STATS).
 # (anchor, code, where): code inserted before or after the single occurrence of anchor
 _PATCHES = [
-    ("        t_end = (step + 1) * dt\n        wt, ps, pending = _begin_step(",  # an analysis step on the physical
-     "        t_end = (step + 1) * dt\n"                                          # path starts
-     "        for i in range(st[0].size + 1):\n"
+    ("        t_end = (step + 1) * dt\n        lp = _begin(",  # an analysis step on the physical path starts
+     "        t_end = (step + 1) * dt\n"
+     "        for i in range(work[1][0].size + 1):\n"
      "            stats[N_STATS + 5 + i] = 0\n"
-     "        wt, ps, pending = _begin_step(", "replace"),
-    ("                ps = (h_cached,) + ps[1:]\n                if not ok:\n                    break\n",
+     "        lp = _begin(", "replace"),
+    ("                ok, converged, h, coef, lp = _trial(h, lev, (step, t), cnt, lp, model, work, outs, stats)\n"
+     "                if not ok:\n                    break\n",
      "                stats[N_STATS + 5] += 1\n"  # an attempt's predictor ran
      "                stats[N_STATS + 0] += 1\n"
-     "                stats[N_STATS + 1] += st[0].size\n"
+     "                stats[N_STATS + 1] += work[1][0].size\n"
      "                if cnt[1] > 0:\n"
      "                    stats[N_STATS + 3] += 1\n"
      "                    stats[N_STATS + 4] += cnt[1]\n"
      "                for q in range(cnt[1] + 1):\n"
      "                    gq = work[6][0][q] if q < cnt[1] else target\n"
      "                    if gq >= 0:\n"
-     "                        for i in range(gaps[2][gq], gaps[3][gq]):\n"
+     "                        for i in range(model[2][2][gq], model[2][3][gq]):\n"
      "                            stats[N_STATS + 6 + i] = 1\n", "after"),
-    ("        step += 1\n        if store:  # (the no-pounding twin",  # ... and ends
+    ("        step += 1\n        # ---- the analysis step's END",  # ... and ends
      "        n_busy = 0\n"
-     "        for i in range(st[0].size):\n"
+     "        for i in range(work[1][0].size):\n"
      "            n_busy += stats[N_STATS + 6 + i]\n"
      "        if n_busy > 0:\n"
-     "            stats[N_STATS + 2] += stats[N_STATS + 5] * n_busy + (st[0].size - n_busy)\n"
+     "            stats[N_STATS + 2] += stats[N_STATS + 5] * n_busy + (work[1][0].size - n_busy)\n"
      "        else:\n"
-     "            stats[N_STATS + 2] += stats[N_STATS + 5] * st[0].size\n", "before"),
+     "            stats[N_STATS + 2] += stats[N_STATS + 5] * work[1][0].size\n", "before"),
 ]
 
 
@@ -97,6 +98,9 @@ def counting_kernel():
     """
     src = KERNEL.read_text()
     src = src.replace("from ..", "from seispound.").replace("from ._", "from seispound.integrate._")
+    src = src.replace("from . import", "from seispound.integrate import")
+    src = src.replace("from __future__ import annotations\n", "from __future__ import annotations\n"
+                      "from seispound.integrate._outputs import N_STATS  # (the counters past the kernel's)\n", 1)
     src = src.replace("@njit(cache=True", "@njit(cache=False")
     for anchor, code, where in _PATCHES:
         if src.count(anchor) != 1:
@@ -130,12 +134,12 @@ def counting(module, probe):
         return out
 
     shim.integrate_kernel = integrate_kernel
-    saved = newmark_module.K
-    newmark_module.K = shim
+    saved = newmark_module.D
+    newmark_module.D = shim
     try:
         yield
     finally:
-        newmark_module.K = saved
+        newmark_module.D = saved
 
 
 def count(module, system, ag, dt, nsteps, substeps) -> tuple[dict, object]:

@@ -45,8 +45,7 @@ REPO = Path(__file__).resolve().parent.parent
 def _child(model: str, row: str | None, out: Path, seconds: float, physics: str | None = None,
            driver: str = "auto") -> int:
     from seispound import load_model
-    from seispound.integrate import _general as G
-    from seispound.integrate import _kernel as K
+    from seispound.integrate import _driver as D
     from seispound.integrate import integrate
     from seispound.simulation import newmark_substeps, prepare_ground_motion, run_inputs
     from seispound.structure import assemble
@@ -89,7 +88,7 @@ def _child(model: str, row: str | None, out: Path, seconds: float, physics: str 
             return integrate(system, ag, an.dt, an.nsteps, an.newmark, driver=driver)
 
     raw = run()
-    kernel = G.general_kernel if raw.driver == "general" else K.integrate_kernel
+    kernel = D.general_kernel if raw.driver == "general" else D.integrate_kernel
     cres = next(iter(kernel.overloads.values()))
     lib = cres.library
     if not (out / "kernel.o").exists():

@@ -52,9 +52,9 @@ import re, time, warnings
 warnings.simplefilter("ignore")
 from numba.core import event
 import seispound as sp
-from seispound.integrate import _general, _kernel
-for model, kernel in (("models/two_buildings.toml", _kernel.integrate_kernel),
-                      ("models/yielding_pair.toml", _general.general_kernel)):
+from seispound.integrate import _driver
+for model, kernel in (("models/two_buildings.toml", _driver.integrate_kernel),
+                      ("models/yielding_pair.toml", _driver.general_kernel)):
     with event.install_recorder("numba:compile") as rec:
         t0 = time.perf_counter()
         sp.simulate(sp.load_model(model))

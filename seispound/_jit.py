@@ -47,7 +47,7 @@ _IMPORT = re.compile(r"^[ \t]*(?:from[ \t]+(\.*)([\w.]*)[ \t]+import[ \t]+([\w, 
 
 
 def _imports(path: Path) -> set[Path]:
-    """The package's modules that the module at ``path`` imports (``from .a import b``, ``from .. import a``,
+    """The package's modules that the module at ``path`` imports (``from .a import b``, ``from .. import a as c``,
     ``from seispound.a import b``, ``import seispound.a``), as source paths (a package's ``__init__.py``).
 
     A regular expression over the lines, not ``ast``: parsing the kernels' sources cost 0.2 s at import."""
@@ -66,7 +66,7 @@ def _imports(path: Path) -> set[Path]:
                 continue
             base, module = _ROOT.parent, module
         target = base.joinpath(*module.split(".")) if module else base
-        cands = [target] + ([target / n.strip() for n in names.split(",") if n.strip()] if not module else [])
+        cands = [target] + ([target / n.split()[0] for n in names.split(",") if n.strip()] if not module else [])
         for n in cands:
             for cand in (n.with_suffix(".py"), n / "__init__.py"):
                 if cand.is_file():

@@ -9,7 +9,7 @@ contact laws of ``_material.py`` and ``contact/_scalar.py`` and freeze the colum
 from pathlib import Path
 
 from seispound import _jit
-from seispound.integrate import _general, _kernel, _material
+from seispound.integrate import _driver, _material
 
 ROOT = Path(_jit.__file__).resolve().parent
 
@@ -27,7 +27,7 @@ def _closure():
 
 def test_the_stamp_covers_the_laws_and_constants_the_kernels_inline():
     files = _closure()
-    for needed in ("integrate/_material.py", "integrate/_general.py", "integrate/_kernel.py", "contact/_scalar.py",
+    for needed in ("integrate/_material.py", "integrate/_general.py", "integrate/_kernel.py", "integrate/_driver.py", "contact/_scalar.py",
                    "contact/codes.py", "storey/codes.py", "integrate/_outputs.py"):
         assert needed in files
     # what no compiled code reads stays out, so that editing it does not recompile the integrator
@@ -40,13 +40,14 @@ def test_relative_imports_of_a_package_and_of_names_resolve(tmp_path, monkeypatc
     (pkg / "a").mkdir(parents=True)
     for f in ("__init__.py", "a/__init__.py", "a/b.py", "a/c.py", "d.py"):
         (pkg / f).write_text("")
-    (pkg / "a" / "k.py").write_text("from .b import x\nfrom . import c\nfrom ..d import (\n    y,\n)\nimport numpy\n")
+    (pkg / "a" / "k.py").write_text("from .b import x\nfrom . import c as C\nfrom ..d import (\n    y,\n)\nimport numpy\n")
     monkeypatch.setattr(_jit, "_ROOT", pkg)
     got = {str(p.relative_to(pkg.resolve())) for p in _jit._imports(pkg / "a" / "k.py")}
     assert got == {"a/b.py", "a/c.py", "a/__init__.py", "d.py"}
 
 
 def test_every_cached_kernel_carries_the_package_stamp():
-    for disp in (_kernel.integrate_kernel, _general.general_kernel, _material.material_energy):
+    for disp in (_driver.integrate_kernel, _driver.general_kernel, _driver.drive_two_node, _driver.drive_coupled,
+                 _material.material_energy):
         own, package = disp._cache._cache_file._source_stamp
         assert package == _jit.package_stamp() and own  # numba's stamp of its own file stays beside it

@@ -60,7 +60,7 @@ def assemble_band(cm, cc, ck, linear, p, L):
     """L (n, p + 2): the lower band of A = cm M + cc C + ck K, with C = sum a0 m b b^T + sum c b b^T.
 
     linear = (ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c): the masses and the linear
-    elements (``general_kernel``; more members after these are ignored).  Newmark's K_hat is
+    elements (``_driver.general_kernel``; more members after these are ignored).  Newmark's K_hat is
     (1/(beta h^2), gamma/(beta h), 1); the mass matrix is (1, 0, 0).
     """
     ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k, le_c = linear[:8]

@@ -117,7 +117,7 @@ def _march_exact(span, P, co, modes, state, hist):
 def _free_flight(span, nmk, gnd, mdb, blocks, row, gaps, exact_co, dr, st, outs, energy):
     """March up to ``nblk`` analysis steps from step0 with every gap open, in modal coordinates.
 
-    Tuples (``_kernel.integrate_kernel``'s): span = (step0, nsteps, nblk, store: the histories are written);
+    Tuples (``_driver.integrate_kernel``'s): span = (step0, nsteps, nblk, store: the histories are written);
     nmk = (dt [s], beta, gamma); gnd = (ag, moving, gap_ground);
     mdb = (md_start, md_blocks_t, md_block_off, md_phi_t, md_w2, md_c, md_gam, md_khinv) the modal basis;
     blocks = (s_in, s_out, mq, mqv, mqa, Q, QV, QA, DQ, P, U, V, f_start, Eb) the modal state and block work

@@ -1,10 +1,12 @@
-"""The general driver: Newmark-beta for any element with state, any coupling the band holds.
+"""The phases of the time loop (``_driver.drive``) on the coefficient-vector linear part (the general
+driver): Newmark-beta for any element with state, any coupling the band holds.
 
-Private: call :func:`seispound.integrate.integrate`, which chooses this driver
-when the model has what the fast one (``_kernel.py``) does not take (storeys
+Private: call :func:`seispound.integrate.integrate`, which chooses this linear part
+when the model has what the two-node one (``_kernel.py``) does not take (storeys
 with history, elements on three DOFs, masses on several, gaps against a
-storey), or when asked to (``path="general"``, the off switch of every
-optimisation the fast driver makes).
+storey), or when asked to (``driver="general"``, the off switch of every
+optimisation the fast driver makes); ``_driver.general_kernel`` sets it up and
+runs the loop.
 
 Method (Newmark 1959; Chopra, Dynamics of Structures, Table 5.7.2; Bathe 1996,
 Sec. 9.5): the linear part -- masses, linear springs and dashpots, all as
@@ -49,15 +51,12 @@ from __future__ import annotations
 import numpy as np
 from seispound._jit import njit
 
-from ._borrow import borrow, borrow_all, keep_alive
 from ._contact import _begin_impact, _contact_step, _end_impact, _grid_level, _group_contacts, _peak_through
-from ._elements import (_deformation, _deformation_at, _dot, assemble_band, kinetic_energy, linear_bands,
-                        linear_forces, lumped_diagonal, strain_energy)
+from ._elements import _deformation, _deformation_at, _dot, kinetic_energy, linear_forces, strain_energy
 from ._events import ACCEPT, AT_ONCE, FAILED, LAND_TOL, REDO, _event_in_step, _landed, _screen_elements
 from ._general_flight import _free_flight
 from ._general_solve import N_LEVELS, _acceleration, _cached_factor, _factor_cache, _predictor, _solve_groups
 from ._ground import GU0, GU1, _gap_ground_all, _ground_all, _tick
-from ._linear import _factor_profile
 from ..storey.codes import B_K
 from ._material import material_commit, material_energy, material_trial
 from ._outputs import (
@@ -68,7 +67,6 @@ from ._outputs import (
     E_KINETIC,
     E_STRAIN,
     IMPACT_CAPACITY,
-    NEWTON_FAILED,
     OK,
     S_DOF_STEPS,
     S_ITERATIONS,
@@ -76,154 +74,6 @@ from ._outputs import (
     S_REJECTED,
     S_STEPS,
 )
-
-
-@njit(cache=True)
-def general_kernel(linear, p, numbering, elements, state0, motion, init, settings, opts, outs, cat, stats):
-    """Integrate; fill the outputs; return (status, n_impacts, t_reached).
-
-    The arguments come in named tuples: linear = (ms_dof, ms_coef, ms_val, ms_a0, le_dof, le_coef, le_k,
-    le_c); p; numbering = (first, out_col); elements = (dof_load, dof_motion, dof_infl, ne_dof, ne_coef,
-    ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi); state0; motion = (ag, moving, ne_ground); init = (u_init,
-    v_init); settings = (dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store) as the fast driver's; opts =
-    (tangent, pT, lev_free, ff, el_pred); outs = (out_u, out_v, out_a, out_f, out_e, umax, fmax); cat =
-    (imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur, imp_zeta, imp_e); stats.
-
-    Shapes: n DOFs, nn elements with state, nm motion rows, nt = nsteps + 1.
-    ms_* : masses (nms, 3) / (nms,) [kg], ms_a0 [1/s] their proportional damping;
-    le_* : linear elements (nle, 3) / (nle,), le_k [N/m], le_c [N s/m];
-    p : half bandwidth of M, C and K; numbering = (first, out_col), (n,) int64 each: the first column of
-    each row's lower envelope in M, C, K and the storeys' elastic stiffness (``structure.band.envelope``;
-    every factor is a profile factor, ``_linear._factor_profile``, within max(first[i], i - its half
-    bandwidth)), and the output column of each DOF (the row's own numbering, where the driver's is
-    another: ``newmark._profile_numbered``); dof_load (n,) [kg]: M iota, the load per
-    unit ground acceleration of row dof_motion (n,); dof_infl (n,): iota;
-    ne_* : elements with state (nn, 4) / (nn,) / (nn, N_PAR), ne_gap (nn,)
-    True for a gap (events, active only while closed), False for a storey
-    (always active); ne_lo, ne_hi (nn,): the DOF range of the buildings each
-    element links (A is block diagonal over buildings: elements whose ranges do
-    not overlap are uncoupled, and Newton runs per group, ``_group_contacts``);
-    state0 (nn, N_STATE) their initial committed state;
-    ag (nm, nt) [m/s^2]; ne_ground (3, nn, nt): each element's differential
-    ground acceleration, velocity and displacement (used when ``moving``);
-    outputs as ``_kernel.integrate_kernel`` (out_f (nt, nn): every element's
-    force; out_e (nt, 6) with the hysteretic energy).
-    n_sub : (contact substeps per impact duration, longest contact substep [s]) (``_contact._begin_impact``).
-    lev_free : no step longer than dt / 2^lev_free (substeps that make Newmark accurate at the
-    analysis step: ``simulation.newmark_substeps``).
-    tangent : a group of active elements that holds a storey iterates on the banded tangent
-    (``_general_solve._newton_tangent``, half bandwidth pT with the storeys); False: every group on the dense
-    condensed system (``_newton``), the off switch the tests compare against.
-    el_pred: every storey is bilinear, and a physical step first tries them at their elastic stiffness in
-    the linear part (Newton on the closed gaps alone), kept if every storey ends the step elastic.
-    ff = (on, start, off_x, off_g, off_e, phi, G0, G1, Egx, Egg, st_elem, st_start, Gc, Egc, Gq, Egq, bw):
-    while every gap is open (and every storey, if any, is bilinear or, with ``bw``, Bouc-Wen: ``on``
-    says so) an analysis step is one map per building (``transition.py``: exact, or the same Newmark
-    substeps composed), screened for gap events and for elastic bilinear storeys reaching yield, the
-    terms of the Bouc-Wen storeys and, with ``bw``, of the yielding bilinear ones iterated within it
-    (``_general_flight``); on False, or when the screen finds an event, the step is taken on the physical
-    path (the kernel's substep and attempt loops).
-    """
-    # arguments: alive for the whole call, so borrowed (``_borrow``: no reference counting in the loop)
-    linear, numbering, elements, motion, init, opts, outs, cat = borrow_all(
-        (linear, numbering, elements, motion, init, opts, outs, cat))
-    stats = borrow(stats)
-    dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store = settings
-    tangent, pT, lev_free, ff, el_pred = opts
-    load, elg = elements[:3], elements[3:]
-    ne_gap = elg[5]
-    n, nn = init[0].size, ne_gap.size
-    # the linear part as elements (assembly), as the bands of K and C (its forces), M's diagonal if lumped
-    # and the envelope every factor keeps to
-    lin = linear + (linear_bands(linear, p, n), lumped_diagonal(linear[0], linear[1], linear[2], n)) + numbering
-    # the work arrays: owned by this tuple (kept alive to the end), used through borrowed aliases
-    owners = _general_work(n, nn, motion[0].shape[0], (p, pT, el_pred), ff[10].size, dt, state0, init)
-    work = borrow_all(owners)
-    fac, st, lists, elem, ev = work[0], work[1], work[2], work[5], work[6]
-    cs = (elem[6], elem[0], elem[7], elem[8], elem[9])  # each element's contact state (``_contact._begin_impact``)
-    cfg = (dt, beta, gamma, n_sub, rtol, max_iter, tangent, pT, lev_free, el_pred, p)
-    model = (lin, load, elg, motion, cs)
-    for s in range(stats.size):
-        stats[s] = 0
-    assemble_band(1.0, 0.0, 0.0, linear, p, fac[3])
-    if not _factor_profile(fac[3], p, lin[10], 0, n):
-        return NEWTON_FAILED, 0, 0.0  # a DOF without mass (the front end refuses it first)
-    # -- initial state: storeys active, gaps closing at t = 0 start an impact ------
-    status, n_imp, m_act, n_comp, es_lin0, rec0, e_in = _start(dt, n_sub, motion, elg, elem, cs, cat, lists, st, ev,
-                                                               (fac[3], p, lin, load))
-    if status != OK:
-        return status, n_imp, 0.0
-    energy = (e_in, 0.0, 0.0, 0.0)  # input, linear elements' and dampers' work, work on the storeys, contact [J]
-    _output(0, True, st, ev[7], load, lin, elg, elem, ev[0], (es_lin0, rec0), energy, outs)
-    n_storeys = 0
-    for q in range(nn):
-        n_storeys += 0 if ne_gap[q] else 1
-    hmin = 1e-9 * dt  # events closer than this to a step's start switch in place
-    t, h_A = 0.0, -1.0  # h_A: the step of A's band
-    flin_stale = False
-    step = 0
-    while step < nsteps:
-        t_end = (step + 1) * dt
-        ok = False
-        if ff[0] and m_act == n_storeys:  # every gap open (the storeys are always active): FREE FLIGHT
-            ok, energy = _free_flight(ff, (t_end, dt), motion, elg, lin, st, elem, ev, work[7], outs[5:], energy,
-                                      stats)
-        if ok:
-            t = t_end
-            flin_stale = True
-        else:  # the PHYSICAL PATH: Newmark steps, contact substeps, events
-            if flin_stale:  # K u + C v at the state free flight left (the corrector's trapezoidal work needs it)
-                linear_forces(lin[8], st[0], st[1], st[8])
-                flin_stale = False
-            while t_end - t > hmin:
-                # ---- a SUBSTEP: its size (the rest of the analysis step, or the contact substep grid), then
-                # ATTEMPTS up to the first event
-                h, lev = _contact_step(t, t_end, dt, m_act, lists[0], elg[3], elem[7], elem[8], fac[2], N_LEVELS,
-                                       lev_free)
-                target = -1
-                outcome, landed, n_tog, cm, cc = FAILED, False, 0, 0.0, 0.0
-                for attempt in range(200):
-                    # TRIAL: factor, PREDICTOR, the ITERATIONS on the active elements
-                    ok, converged, h, cm, cc, h_A = _trial_step((h, lev, t), (m_act, n_comp), cfg, model, work, h_A,
-                                                                stats)
-                    if not ok:
-                        break
-                    if not converged:  # a quarter of the step
-                        stats[S_REJECTED] += 1
-                        h *= 0.25
-                        target = -1
-                        if h < hmin:
-                            break
-                        continue
-                    # EVENT SCREEN: does a gap touch or separate inside the step?
-                    outcome, theta, g_ev, landed, n_tog = _screen_attempt((h, hmin, cc), target, elg, st, elem, ev,
-                                                                          stats)
-                    if outcome != REDO:
-                        break
-                    h = theta * h  # up to the event
-                    target = g_ev
-                    outcome = FAILED  # (unless a later attempt ends otherwise)
-                if outcome == FAILED:
-                    return NEWTON_FAILED, n_imp, t
-                if outcome == ACCEPT:
-                    # ---- ACCEPT / COMMIT: state, committed laws, peaks, work; the clock moves on
-                    t, energy, n_tog = _commit_step((h, cm, cc), (t, t_end, dt), (target, landed, n_tog), m_act,
-                                                    energy, model, work, outs, cat, stats)
-                if n_tog > 0:
-                    # ---- SWITCH: an impact's onset (the law's onset hook) or end at each gap toggled
-                    status, n_imp, m_act, n_comp = _switch_events(n_tog, t, (n_imp, m_act), cfg, model, work, outs,
-                                                                  cat)
-                    if status != OK:
-                        return status, n_imp, t
-            if store:  # the storeys' deformation at the step's end, for the output
-                for q in range(nn):
-                    if not ne_gap[q]:
-                        ev[0][q] = _dot(elg[0], elg[1], q, st[0]) - elg[2][q]
-        step += 1
-        if store:
-            _output(step, False, st, ev[7], load, lin, elg, elem, ev[0], (es_lin0, rec0), energy, outs)
-    keep_alive(owners)
-    return OK, n_imp, t
 
 
 @njit(cache=True)
@@ -274,19 +124,98 @@ def _general_work(n, nn, nm, bands, n_ff, dt, state0, init):
 
 
 @njit(cache=True, inline="always")
-def _trial_step(at, counts, cfg, model, work, h_A, stats):
+def _fly(step, t, cnt, energy, lp, model, work, outs, stats):
+    """FREE FLIGHT (``_driver._fly``): while every gap is open (the storeys are always active) and the row's
+    maps allow it (ff's ``on``), the analysis step from ``step`` by each building's map
+    (``_general_flight._free_flight``), and its output row.  lp = (the step of A's band, K u + C v stale).
+    Returns (flew, step, t, energy, lp); not flown when the screen finds an event in the step."""
+    lin, load, elg, motion, settings, ff, e0 = model[0], model[1], model[2], model[3], model[5], model[7], model[9]
+    dt = settings[0]
+    st, elem, ev = work[1], work[5], work[6]
+    if not (ff[0] and cnt[1] == model[8]):
+        return False, step, t, energy, lp
+    t_end = (step + 1) * dt
+    ok, energy = _free_flight(ff, (t_end, dt), motion, elg, lin, st, elem, ev, work[7], outs[5:], energy, stats)
+    if not ok:
+        return False, step, t, energy, lp
+    step += 1
+    if settings[7]:
+        _output(step, False, st, ev[7], load, lin, elg, elem, ev[0], e0, energy, outs)
+    return True, step, t_end, energy, (lp[0], True)
+
+
+@njit(cache=True, inline="always")
+def _begin(step, t, cnt, lp, model, work, outs, stats):
+    """The analysis step's start on the physical path (every building steps): K u + C v at the state free
+    flight left, if stale (the corrector's trapezoidal work needs it).  Returns lp."""
+    if lp[1]:
+        st = work[1]
+        linear_forces(model[0][8], st[0], st[1], st[8])
+    return lp[0], False
+
+
+@njit(cache=True, inline="always")
+def _substep(step, t, cnt, lp, model, work):
+    """A substep's size from t [s]: the rest of the analysis step, or the contact substep grid while a gap is
+    closed (``_contact._contact_step``), within dt / 2^lev_free.  Returns (h [s], its grid level, -1: no gap
+    aimed at)."""
+    cfg, elg = model[6], model[2]
+    dt = cfg[0]
+    fac, lists, elem = work[0], work[2], work[5]
+    h, lev = _contact_step(t, (step + 1) * dt, dt, cnt[1], lists[0], elg[3], elem[7], elem[8], fac[2], N_LEVELS,
+                           cfg[8])
+    return h, lev, -1
+
+
+@njit(cache=True, inline="always")
+def _aim(outcome, target, landed, lp, model):
+    """(No gap is aimed at across substeps on this linear part.)  Returns lp."""
+    return lp
+
+
+@njit(cache=True, inline="always")
+def _join_step(g_ev, t, energy, lp, model, work, outs, stats):
+    """(Every building steps on this linear part: its screen never asks a waiting one to join.)"""
+    return False, energy, lp
+
+
+@njit(cache=True, inline="always")
+def _close(step, energy, lp, model, work, outs):
+    """The analysis step's END on the physical path: the storeys' deformation and output row ``step``.
+    Returns (energy, lp)."""
+    lin, load, elg, e0 = model[0], model[1], model[2], model[9]
+    st, elem, ev = work[1], work[5], work[6]
+    if model[5][7]:
+        ne_gap = elg[5]
+        for q in range(ne_gap.size):
+            if not ne_gap[q]:
+                ev[0][q] = _dot(elg[0], elg[1], q, st[0]) - elg[2][q]
+        _output(step, False, st, ev[7], load, lin, elg, elem, ev[0], e0, energy, outs)
+    return energy, lp
+
+
+@njit(cache=True, inline="always")
+def _finish(lp, model, work, outs):
+    """The run's end: nothing left to settle (every output row is complete when written)."""
+    return
+
+
+@njit(cache=True, inline="always")
+def _trial(h, lev, clk, cnt, lp, model, work, outs, stats):
     """One attempt at a step of h [s] from t: the step on the factor grid, the ground at its end, A's factor,
     the PREDICTOR and the ITERATIONS.
 
     Phase 0, the elastic predictor (every storey bilinear, ``el_pred``): the storeys at their elastic
     stiffness in the linear part, Newton on the closed gaps alone, kept if every storey ends the step
     elastic.  Phase 1: the predictor with every element force of state frozen at zero, then Newton on
-    the active elements' forces, condensed through A^-1 (``_solve_groups``).  at = (h, its grid level,
-    t); counts = (active elements, their groups).  Returns (ok: A positive definite, converged, h on the
-    grid, 1/(beta h^2), gamma/(beta h), h_A).
+    the active elements' forces, condensed through A^-1 (``_solve_groups``).  clk = (analysis step, t);
+    cnt = (impacts, active elements, their groups); lp = (the step of A's band h_A, K u + C v stale).
+    Returns (ok: A positive definite, converged, h on the grid, (1/(beta h^2), gamma/(beta h)), lp).
     """
-    h, lev, t = at
-    m_act, n_comp = counts
+    t = clk[1]
+    m_act, n_comp = cnt[1], cnt[2]
+    h_A = lp[0]
+    cfg = model[6]
     dt, beta, gamma, rtol, max_iter = cfg[0], cfg[1], cfg[2], cfg[4], cfg[5]
     tangent, pT, el_pred, p = cfg[6], cfg[7], cfg[9], cfg[10]
     lin, load, elg, motion = model[0], model[1], model[2], model[3]
@@ -312,7 +241,7 @@ def _trial_step(at, counts, cfg, model, work, h_A, stats):
             ok, Lp, Wp, Wp_ok = _cached_factor(lv, h, cm, cc, lin, (ne_dof, ne_coef, ne_par, ne_gap), True, pT,
                                                fac[1], stats)
             if not ok:
-                return False, False, h, cm, cc, h_A
+                return False, False, h, (cm, cc), lp
             pb = pT
             m_g = 0
             for k in range(m_act):
@@ -324,7 +253,7 @@ def _trial_step(at, counts, cfg, model, work, h_A, stats):
             ok, Lp, Wp, Wp_ok = _cached_factor(lv, h, cm, cc, lin, (ne_dof, ne_coef, ne_par, ne_gap), False, p,
                                                fac[0], stats)
             if not ok:
-                return False, False, h, cm, cc, h_A
+                return False, False, h, (cm, cc), lp
             pb = p
             grp = (m_act, act, n_comp, comp_off)
         _predictor(h, (beta, gamma), (Lp, pb), lin, load, ev[8], st, (phase == 0, ne_dof, ne_coef, ne_gap, F))
@@ -336,7 +265,7 @@ def _trial_step(at, counts, cfg, model, work, h_A, stats):
         stats[S_ITERATIONS] += it
         if phase == 1:
             stats[S_MAX_ITER] = max(stats[S_MAX_ITER], it)
-            return True, ok, h, cm, cc, h_A
+            return True, ok, h, (cm, cc), (h_A, lp[1])
         elastic = ok
         for q in range(ne_gap.size):
             if elastic and not ne_gap[q]:
@@ -345,21 +274,23 @@ def _trial_step(at, counts, cfg, model, work, h_A, stats):
                 elastic = dfd == ne_par[q, B_K]
                 F1[q] = f
         if elastic:
-            return True, True, h, cm, cc, h_A
-    return True, True, h, cm, cc, h_A  # (not reached: phase 1 returns)
+            return True, True, h, (cm, cc), (h_A, lp[1])
+    return True, True, h, (cm, cc), (h_A, lp[1])  # (not reached: phase 1 returns)
 
 
 @njit(cache=True, inline="always")
-def _screen_attempt(hs, target, elg, st, elem, ev, stats):
-    """The EVENT SCREEN of a converged trial step: does a gap touch or separate inside it?
+def _screen(h, coef, t, target, lp, model, work, stats):
+    """The EVENT SCREEN of a converged trial step of h [s] from t: does a gap touch or separate inside it?
 
-    hs = (h [s], hmin [s], gamma/(beta h)); target: the gap the step aims at.  Each gap's deformation and
+    coef = (1/(beta h^2), gamma/(beta h)); target: the gap the step aims at.  Each gap's deformation and
     rate at the step's end go to ev's (d1, r1).  Returns (outcome, theta, g_ev, landed, n): ACCEPT (no event
     inside; landed: the target's event is at the step's end; n the gaps landed with it, in land_too), REDO
     (redo up to theta h, the first event, at gap g_ev), AT_ONCE (the events are at the step's start: n gaps
     to switch in place, in toggles) or FAILED (an event at the start that no gap owns).
     """
-    h, hmin, cc = hs
+    cc = coef[1]
+    hmin = 1e-9 * model[6][0]
+    elg, st, elem, ev = model[2], work[1], work[5], work[6]
     ne_gap, active = elg[5], elem[6]
     d0, r0, d1, r1, toggles, land_too, gk = ev[0], ev[1], ev[2], ev[3], ev[4], ev[5], ev[6]
     for q in range(ne_gap.size):
@@ -379,13 +310,15 @@ def _screen_attempt(hs, target, elg, st, elem, ev, stats):
 
 
 @njit(cache=True, inline="always")
-def _commit_step(step, clock, aimed, m_act, energy, model, work, outs, cat, stats):
-    """ACCEPT / COMMIT the trial step (``_accept``) and move the clock on (``_advance``).  step = (h [s],
-    1/(beta h^2), gamma/(beta h)); clock = (t, the analysis step's end, dt) [s]; aimed = (the gap aimed at,
-    whether its event landed at the step's end, the gaps landed with it).  Returns (t, energy, the gaps to
-    switch, in toggles)."""
-    h, cm, cc = step
-    t, t_end, dt = clock
+def _commit(h, span, aimed, cnt, energy, lp, model, work, outs, cat, stats):
+    """ACCEPT / COMMIT the trial step of h [s] (``_accept``) and move the clock on (``_advance``).
+    span = (t, the analysis step's end) [s]; aimed = (the gap aimed at, whether its event landed at the
+    step's end, the gaps landed with it).  Returns (t, energy, the gaps to switch, in toggles)."""
+    t, t_end = span
+    dt, beta, gamma = model[6][0], model[6][1], model[6][2]
+    cm = 1.0 / (beta * h * h)  # (as the trial formed them)
+    cc = gamma / (beta * h)
+    m_act = cnt[1]
     target, landed, n_land = aimed
     lin, load, elg, motion = model[0], model[1], model[2], model[3]
     st, lists, elem, ev = work[1], work[2], work[5], work[6]
@@ -398,20 +331,20 @@ def _commit_step(step, clock, aimed, m_act, energy, model, work, outs, cat, stat
 
 
 @njit(cache=True, inline="always")
-def _switch_events(n_tog, t, counts, cfg, model, work, outs, cat):
+def _switch_at(n_tog, t, cnt, lp, model, work, outs, cat):
     """SWITCH at t [s] the n_tog gaps in toggles (``_switch``), regroup the active elements and take the
     accelerations from equilibrium at fixed (u, v) (a contact force may jump at an event: LVe's dashpot).
-    counts = (impacts, active elements).  Returns (status, impacts, active elements, their groups)."""
-    n_sub, p = cfg[3], cfg[10]
+    cnt = (impacts, active elements, their groups).  Returns (status, cnt)."""
+    n_sub, p = model[6][3], model[6][10]
     lin, load, elg, cs = model[0], model[1], model[2], model[4]
     fac, st, lists, elem, ev = work[0], work[1], work[2], work[5], work[6]
     status, n_imp, m_act = _switch(ev[4], n_tog, t, n_sub, elg, (ev[0], ev[1]), elem[2], outs[6], cs, cat,
-                                   lists[0], counts)
+                                   lists[0], (cnt[0], cnt[1]))
     if status != OK:
-        return status, n_imp, m_act, 0
+        return status, (n_imp, m_act, cnt[2])
     n_comp = _group_contacts(m_act, lists[0], elg[6], elg[7], lists[1])
     _acceleration((fac[3], p), (lin[8], lin[10]), load[:2], ev[7], (st[0], st[1], st[2], st[8]), elg[:2], elem[2])
-    return OK, n_imp, m_act, n_comp
+    return OK, (n_imp, m_act, n_comp)
 
 
 @njit(cache=True, inline="always")
@@ -518,7 +451,7 @@ def _output(k, first, st, g, load, lin, elg, elem, delta, e0, energy, outs):
 def _start(dt, n_sub, motion, elg, elem, cs, cat, lists, st, ev, eq):
     """The state at t = 0: every storey active, gaps already closing (touching bodies) start an impact, each
     active element's force from its law, the closed gaps listed and grouped, the accelerations from
-    equilibrium.  The groups as ``general_kernel`` names them (``_general_work``): lists (act, comp_off)
+    equilibrium.  The groups as ``_driver.general_kernel`` names them (``_general_work``): lists (act, comp_off)
     filled, ev's (d0, r0) each element's deformation [m] and rate [m/s], g_t; eq = (LM, p, lin, load).
     Returns (status, impacts, active elements, groups, the linear elements' strain energy [J], the storeys'
     recoverable energy [J], the energy present at t = 0 [J], counted as input)."""

@@ -39,7 +39,7 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
     touches, no elastic bilinear storey reaches yield in it and the hysteretic storeys' terms
     converge (``_hysteretic_flight``).
 
-    clock = (t_end, dt) [s]; the groups as ``general_kernel`` names them (st, elem, ev, fl: its work
+    clock = (t_end, dt) [s]; the groups as ``_driver.general_kernel`` names them (st, elem, ev, fl: its work
     arrays, ``_general_work``); peaks = (umax, fmax); energy = (input, linear elements' and dampers' work,
     work on the storeys, contact work) [J].  Returns (accepted, energy): the elastic bilinear storeys' work
     exactly (their force is linear in their deformation), the iterated storeys' (Bouc-Wen, yielding

@@ -136,7 +136,7 @@ def _load(dof_load, dof_motion, g, out):
 
 @njit(cache=True, inline="always")
 def _solve_groups(grp, elg, stp, frc, fac, band, wrk, opts):
-    """Newton on the forces of the active elements, group by group; Du less their share (``general_kernel``).
+    """Newton on the forces of the active elements, group by group; Du less their share (``_driver.general_kernel``).
 
     grp = (m_act, act, n_comp, comp_off): the active elements in groups that share no building;
     elg = (ne_dof, ne_coef, ne_size, ne_code, ne_par, ne_gap, ne_lo, ne_hi); stp = (h, cm, cc, u, Du,

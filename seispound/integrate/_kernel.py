@@ -1,7 +1,9 @@
-"""Newmark-beta time loop with event-located contact, compiled with numba.
+"""The phases of the time loop (``_driver.drive``) on the two-node linear part (the fast driver):
+Newmark-beta with event-located contact, compiled with numba.
 
 Private: call :func:`seispound.integrate.integrate`, which validates inputs and
-allocates the outputs.  Everything here takes arrays and scalars only.
+allocates the outputs; ``_driver.integrate_kernel`` sets this linear part up and
+runs the loop.  Everything here takes arrays and scalars only.
 
 Method
 ------
@@ -86,10 +88,9 @@ import numpy as np
 from seispound._jit import njit
 
 from ..contact._scalar import NONE, contact_force
-from ._borrow import borrow, borrow_all, keep_alive
 from ._contact import _begin_impact, _contact_step, _end_impact, _grid_level, _group_contacts, _peak_through
 from ._elements import _gap_deformation, _gap_kinematics, _gap_trial
-from ._events import ACCEPT, AT_ONCE, FAILED, JOIN, LAND_TOL, REDO, _event_in_step, _landed, _screen_step
+from ._events import ACCEPT, AT_ONCE, JOIN, LAND_TOL, REDO, _event_in_step, _landed, _screen_step
 from ._free_flight import _block_matvec, _exact_trial, _free_flight
 from ._ground import GU0, GU1, GV0, GV1, _gap_ground_all, _ground_all, _tick
 from ._linear import (
@@ -105,7 +106,7 @@ from ._linear import (
     _woodbury_columns,
 )
 from ._material import N_STATE, ST_ZETA
-from ._multirate import _gap_state, _join, _runs, _screen_list, _stepping, _waiting_commit, _waiting_step, _who_steps
+from ._multirate import _gap_state, _join, _runs, _stepping, _waiting_commit, _waiting_step, _who_steps
 from ._newmark_step import _accept_rows, _newmark_predictor
 from ._newton import _newton
 from ._outputs import (  # noqa: F401 (re-exported)
@@ -135,152 +136,10 @@ N_LEV = 40  # K_hat's factors kept for h = dt / 2^k, k < N_LEV
 
 
 @njit(cache=True)
-def integrate_kernel(row, p, init, gaps, motion, settings, modal, multi, outs, cat, stats):
-    """Integrate the row of buildings; fill the output arrays; return (status, n_impacts, t_reached).
-
-    The arguments come in named tuples: row = (mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1); p the
-    half bandwidth of K_hat; init = (u_init, v_init); gaps = (gap_i, gap_j, gap_lo, gap_hi, gap_size,
-    gap_law, gap_par); motion = (ag, moving, gap_ground); settings = (dt, nsteps, beta, gamma, n_sub, rtol,
-    max_iter, store); modal = (use_modal, md_start, md_blocks_t, md_block_off, md_phi_t, md_phi_tm, md_w2,
-    md_c, md_gam, nblk, exact, ex_co); multi = (multirate, wait_share, blk_dof, blk_el); outs = (out_u,
-    out_v, out_a, out_f, out_e, umax, fmax); cat = (imp_gap, imp_t0, imp_v0, imp_vout, imp_fmax, imp_dur,
-    imp_zeta, imp_e); stats.
-
-    Shapes: n DOFs, ne elements, ng gaps, nm base motions, nt = nsteps + 1.
-    mass, dof_a0, dof_motion, u_init, v_init : (n,); el_* : (ne,); gap_* : (ng,),
-    gap_lo, gap_hi: the DOF range of the blocks (buildings) each gap links,
-    gap_par : (ng, N_PAR); ag : (nm, nt) [m/s^2]; out_u, out_v, out_a : (nt, n);
-    out_f : (nt, ng); out_e : (nt, 5) (with store False: 1 row, the initial state);
-    umax : (n,); fmax : (ng,);
-    imp_* : (capacity,); stats : (N_STATS,) int64.
-    exact : (with use_modal) every step with every gap open is exact for the
-    piecewise-linear ground motion (``_exact.py``): free-flight blocks with the
-    coefficients ex_co (8, n) for dt, the physical path's steps around events
-    with coefficients computed for their size; False: Newmark throughout.
-    use_modal : march the steps with every gap open in blocks of up to nblk
-    steps in modal coordinates (``_free_flight``); md_* from ``modal.py``
-    (md_start : (nc + 1,) block starts; md_blocks_t, md_block_off: each
-    block's Phi^T; md_phi_t, md_phi_tm : (n, n); md_w2, md_c : (n,);
-    md_gam : (nm, n)); ignored (may be empty) when False.
-    n_sub : (contact substeps per impact duration, longest contact substep [s])
-    (``_contact._begin_impact``).
-    multirate : while some gap is closed, only the buildings its contact
-    group links take contact substeps; the others wait, taking each analysis
-    step in one step, and join the stepping ones at the substep in which a gap
-    of theirs may close (``Multi-rate stepping`` in the module docstring),
-    provided they hold at least ``wait_share`` of the DOFs (WAIT_SHARE).
-    blk_dof, blk_el : (nb + 1,) first DOF and first element of each block
-    (building); the elements of a block are contiguous.
-    moving : some gap's two sides stand on different ground motions;
-    gap_ground : (3, ng, nt) the differential ground acceleration, velocity
-    and displacement of each gap at the samples (``_ground._gap_ground``);
-    (3, ng, 1) and unused when ``moving`` is False.
-    """
-    # arguments: alive for the whole call, so borrowed (``_borrow``: no reference counting in the loop)
-    row, init, gaps, motion, modal, multi, outs, cat = borrow_all((row, init, gaps, motion, modal, multi, outs, cat))
-    stats = borrow(stats)
-    dt, nsteps, beta, gamma, n_sub, rtol, max_iter, store = settings
-    n = row[0].size
-    # the work arrays (``_fast_work``): owned by this tuple (kept alive to the end), used through borrowed aliases
-    owners = _fast_work(n, motion[0].shape[0], p, settings, modal, multi, gaps, init)
-    fac, st, incr, wc, semi, nwt0, lists, csa, gf, ev, mr6, runs, ws, blocks, mw = borrow_all(owners)
-    cs = (csa[0], csa[1], csa[3], csa[4], csa[5])  # each gap's contact state (``_contact._begin_impact``)
-    mr = (multi[2], multi[3]) + mr6  # multi-rate: who steps
-    md = (modal[1], modal[4], modal[5], modal[6], modal[7], modal[8])  # the modal basis, for exact steps
-    work = (fac, st, incr, wc, semi, nwt0 + (csa[1], csa[2]), lists, cs, gf, ev, mr, runs, ws, blocks, mw)
-    for s in range(stats.size):
-        stats[s] = 0
-    if not _factor(dt, beta, gamma, row[0], row[1], row[3], row[4], row[5], row[6], p, fac[0][0]):
-        return NEWTON_FAILED, 0, 0.0
-    fac[1][0] = True
-    stats[S_FACTORIZATIONS] += 1
-    # -- initial state: gaps already closing at t = 0 (touching bodies) start an impact; output row 0
-    status, n_imp, m_act, n_comp, e_in, es0 = _start(dt, motion[0], row, gaps, n_sub, st, gf[0], cs, cat, outs, ev,
-                                                     lists)
-    if status != OK:
-        return status, n_imp, 0.0
-    n_run = _runs(mr[5], True, mr[0], mr[1], runs[0], runs[1], runs[2], runs[3])
-    n_ss, n_scr = _screen_list(mr[5], mr[3], mr[4], mr[7])
-    model = (row, p, gaps, motion, settings, modal, multi, md, es0)
-    cnt = (n_imp, m_act, n_comp)  # impacts, gaps closed, their groups
-    energy = (e_in, 0.0, 0.0)  # input, storey + damping work (damping = it - strain change), contact [J]
-    ps = (-1.0, -1, n_run, n_ss, n_scr, n)  # the scratch factor's step, a gap aimed at, who steps (``_stepping``)
-    fb = (0, 16, -1, 2.0, -1, False)  # free-flight blocks: first step, length, event hint, modal state current
-    hmin = 1e-9 * dt  # events closer than this to a step's start switch in place
-    t = 0.0
-    pending = -1  # output row still waiting for its strain energy
-    step = 0
-    while step < nsteps:
-        if modal[0] and cnt[1] == 0 and step >= fb[0]:
-            # ---- every gap open: march a block of steps in modal coordinates
-            step, t, pending, fb, energy = _flight_block(step, pending, fb, energy, model, work, outs, stats)
-            continue
-        fb = fb[:5] + (False,)
-        # ---- the PHYSICAL PATH: who steps (the others wait a whole step: ``_multirate``), then its substeps
-        t_end = (step + 1) * dt
-        wt, ps, pending = _begin_step((step, t, pending), cnt[1], ps, model, work, outs, stats)
-        while t_end - t > hmin:
-            # ---- a SUBSTEP: its size, then ATTEMPTS up to the first event
-            h, lev, target = _step_size(step, t, cnt[1], ps[1], fb, model, work)
-            outcome, landed, g_ev, n_tog = FAILED, False, -1, 0
-            for attempt in range(200):
-                # TRIAL: factor, PREDICTOR, contact NEWTON
-                ok, converged, h, cc, h_cached, pending = _trial_step(h, lev, (step, t, pending), cnt,
-                                                                      ps[:1] + ps[2:], wt[0], model, work, outs,
-                                                                      stats)
-                ps = (h_cached,) + ps[1:]
-                if not ok:
-                    break
-                if not converged:  # a quarter of the step
-                    stats[S_REJECTED] += 1
-                    h *= 0.25
-                    target = -1
-                    if h < hmin:
-                        break
-                    continue
-                # EVENT SCREEN: does a gap open or close inside the step?
-                outcome, theta, g_ev, landed, n_tog = _screen_attempt(h, cc, t, target, wt, ps, model, work,
-                                                                      stats)
-                if outcome != REDO:
-                    break
-                h = theta * h  # up to the event
-                target = g_ev
-                outcome = FAILED  # (unless a later attempt ends otherwise)
-            if outcome == FAILED:
-                return NEWTON_FAILED, cnt[0], t
-            ps = (ps[0], target if outcome == ACCEPT and target >= 0 and not landed else -1) + ps[2:]
-            if outcome == JOIN:
-                # ---- the waiting buildings of gap g_ev catch up to t and step from here
-                ok, ps, wt, energy = _join_now(g_ev, t, wt, energy, model, work, outs, stats)
-                if not ok:
-                    return NEWTON_FAILED, cnt[0], t
-                continue
-            if outcome == ACCEPT:
-                # ---- ACCEPT / COMMIT: energy, state, peaks, contact forces; the clock moves on
-                t, energy, n_tog = _commit_step(h, (t, t_end), (target, landed, n_tog), wt[0], cnt[1], ps, energy,
-                                                model, work, outs, cat, stats)
-            if n_tog > 0:
-                # ---- SWITCH: an impact's onset (the law's onset hook) or end at each gap toggled
-                status, cnt = _switch_events(n_tog, t, cnt, ps[2], model, work, outs, cat)
-                if status != OK:
-                    return status, cnt[0], t
-        if wt[0]:  # ---- the waiting buildings' step is accepted with the stepping ones' last
-            energy = _end_step(wt[1], energy, model, work, outs)
-        step += 1
-        if store:  # (the no-pounding twin keeps its peaks only: no histories to write)
-            _output_row(step, st, ev[5], row, gf[0], outs, energy)
-            pending = step
-    if pending >= 0:
-        _last_strain(pending, row, st, es0, outs[4])
-    keep_alive(owners)
-    return OK, cnt[0], t
-
-
-@njit(cache=True)
 def _fast_work(n, nm, p, settings, modal, multi, gaps, init):
     """The fast driver's work arrays, allocated once (its loop allocates nothing), in named groups.
 
-    n DOFs, nm motion rows, p the half bandwidth; the other arguments as ``integrate_kernel`` takes them.
+    n DOFs, nm motion rows, p the half bandwidth; the other arguments as ``_driver.integrate_kernel`` takes them.
     Returns (fac, st, incr, wc, semi, nwt, lists, cs, gf, ev, mr, runs, ws, blocks, mw):
     fac = (L_lev, have_lev, L_h): K_hat's factors for h = dt / 2^k (contact substeps stay on this grid, so
     each level is factored once) and one scratch factor for odd steps;
@@ -359,15 +218,20 @@ def _fast_work(n, nm, p, settings, modal, multi, gaps, init):
 
 
 @njit(cache=True, inline="always")
-def _flight_block(step, pending, fb, energy, model, work, outs, stats):
-    """Every gap open: march a block of analysis steps from ``step`` in modal coordinates (``_free_flight``),
-    up to the first step in which a gap may close, which the physical path then takes from the block's own
+def _fly(step, t, cnt, energy, lp, model, work, outs, stats):
+    """FREE FLIGHT (``_driver._fly``): with a modal basis (``use_modal``), every gap open and the block's
+    start reached, march a block of analysis steps from ``step`` in modal coordinates (``_free_flight``), up
+    to the first step in which a gap may close, which the physical path then takes from the block's own
     root estimate.
 
-    fb = (the first step a block may start, block length, the step a block saw an event in, its fraction and
-    gap, whether the modal state is current); pending: the output row that still lacks its strain energy.
-    Blocks start at 16 steps after an impact and double up to nblk.  Returns (step, t, pending, fb, energy).
+    lp = (ps, fb, pending, wt) (``_driver.integrate_kernel``): fb = (the first step a block may start, block
+    length, the step a block saw an event in, its fraction and gap, whether the modal state is current);
+    pending: the output row that still lacks its strain energy.  Blocks start at 16 steps after an impact
+    and double up to nblk.  Returns (flew, step, t, energy, lp).
     """
+    ps, fb, pending, wt = lp
+    if not (model[5][0] and cnt[1] == 0 and step >= fb[0]):
+        return False, step, t, energy, (ps, fb[:5] + (False,), pending, wt)
     block_from, blk, hint_step, th_hint, g_hint, modal_current = fb
     row, gaps, motion, settings, modal, es0 = model[0], model[2], model[3], model[4], model[5], model[8]
     dt, nsteps, beta, gamma, store = settings[0], settings[1], settings[2], settings[3], settings[7]
@@ -407,20 +271,21 @@ def _flight_block(step, pending, fb, energy, model, work, outs, stats):
             fint[i] = -mass[i] * (g_t[dof_motion[i]] + a[i])
     energy = (e_in, w_int, energy[2])
     if event:  # the physical path takes the event's step, starting on the event the block located
-        return step, t, -1, (step + 1, 16, step, th_hint, g_hint, False), energy
-    return step, t, -1, (block_from, min(2 * blk, modal[9]), hint_step, th_hint, g_hint, True), energy
+        return True, step, t, energy, (ps, (step + 1, 16, step, th_hint, g_hint, False), -1, wt)
+    return True, step, t, energy, (ps, (block_from, min(2 * blk, modal[9]), hint_step, th_hint, g_hint, True), -1, wt)
 
 
 @njit(cache=True, inline="always")
-def _begin_step(clk, m_act, ps, model, work, outs, stats):
+def _begin(step, t, cnt, lp, model, work, outs, stats):
     """The analysis step's start on the physical path: who steps (with multi-rate stepping, the buildings of
     the closed gaps' groups; the others wait, taking the whole analysis step at once: ``_multirate``).
 
-    clk = (analysis step, t, output row pending); ps = (the scratch factor's step, a gap aimed at, stepping
-    runs, gaps screened with stepping sides only, gaps screened, stepping DOFs).  Returns (wt, ps, pending),
-    wt = (some building waits, their runs, the waiting step's start).
+    lp = (ps, fb, pending, wt): ps = (the scratch factor's step, a gap aimed at, stepping runs, gaps screened
+    with stepping sides only, gaps screened, stepping DOFs); pending: the output row waiting for its strain
+    energy; wt = (some building waits, their runs, the waiting step's start).  Returns lp.
     """
-    step, t, pending = clk
+    ps, fb, pending = lp[0], lp[1], lp[2]
+    m_act = cnt[1]
     row, gaps, motion, multi, es0 = model[0], model[2], model[3], model[6], model[8]
     dt = model[4][0]
     st, lists, ev, mr, runs, ws = work[1], work[6], work[9], work[10], work[11], work[12]
@@ -439,15 +304,16 @@ def _begin_step(clk, m_act, ps, model, work, outs, stats):
         changed = changed or mr[5][b] != mr[6][b]
     if changed:  # (the scratch factor covers the former stepping rows only)
         ps = (-1.0, ps[1]) + _stepping(mr, runs)
-    return (waiting, n_wrun, t), ps, pending
+    return ps, fb, pending, (waiting, n_wrun, t)
 
 
 @njit(cache=True, inline="always")
-def _step_size(step, t, m_act, aim_gap, fb, model, work):
+def _substep(step, t, cnt, lp, model, work):
     """A substep's size from t [s]: the rest of the analysis step or the contact substep grid
-    (``_contact._contact_step``), aimed at the event a step stopped just short of (aim_gap, linear in delta)
-    or at the one a free-flight block located (fb: ``_flight_block``'s event hint).
+    (``_contact._contact_step``), aimed at the event a step stopped just short of (lp's ps[1], linear in
+    delta) or at the one a free-flight block located (lp's fb: ``_fly``'s event hint).
     Returns (h [s], its grid level, the gap aimed at or -1)."""
+    m_act, aim_gap, fb = cnt[1], lp[0][1], lp[1]
     gaps = model[2]
     dt = model[4][0]
     lists, cs, ev, mw = work[6], work[7], work[9], work[14]
@@ -467,16 +333,18 @@ def _step_size(step, t, m_act, aim_gap, fb, model, work):
 
 
 @njit(cache=True, inline="always")
-def _screen_attempt(h, cc, t, target, wt, ps, model, work, stats):
+def _screen(h, coef, t, target, lp, model, work, stats):
     """The EVENT SCREEN of a converged trial step of h [s] from t: does a gap open or close inside it?
 
-    End states from the increments (cc = gamma/(beta h)); a gap with a waiting side moves along its own
-    step's trajectory (wt = (some building waits, their runs, the waiting step's start)); target: the gap
+    End states from the increments (coef = gamma/(beta h)); a gap with a waiting side moves along its own
+    step's trajectory (lp's wt = (some building waits, their runs, the waiting step's start)); target: the gap
     the step aims at.  Returns (outcome, theta, g_ev, landed, n): ACCEPT (no event inside; landed: the
     target's event is at the step's end; n the gaps landed with it, in land_too), REDO (redo up to theta h,
     the first event, at gap g_ev), AT_ONCE (the events are at t: n gaps to switch in place, in toggles) or
     JOIN (a waiting building may touch a stepping one, at gap g_ev).
     """
+    cc = coef
+    ps, wt = lp[0], lp[3]
     waiting, t_w0 = wt[0], wt[2]
     n_ss, n_scr = ps[3], ps[4]
     gaps = model[2]
@@ -513,11 +381,12 @@ def _screen_attempt(h, cc, t, target, wt, ps, model, work, stats):
 
 
 @njit(cache=True, inline="always")
-def _commit_step(h, span, aimed, waiting, m_act, ps, energy, model, work, outs, cat, stats):
+def _commit(h, span, aimed, cnt, energy, lp, model, work, outs, cat, stats):
     """ACCEPT / COMMIT the trial step of h [s] (``_accept``) and move the clock on (``_advance``);
     span = (t, the analysis step's end) [s]; aimed = (the gap aimed at, whether its event landed at the
     step's end, the gaps landed with it).  Returns (t, energy, the gaps to switch, in toggles)."""
     t, t_end = span
+    m_act, ps, waiting = cnt[1], lp[0], lp[3][0]
     target, landed, n_land = aimed
     settings = model[4]
     lists = work[6]
@@ -531,10 +400,12 @@ def _commit_step(h, span, aimed, waiting, m_act, ps, energy, model, work, outs, 
 
 
 @njit(cache=True, inline="always")
-def _switch_events(n_tog, t, cnt, n_run, model, work, outs, cat):
+def _switch_at(n_tog, t, cnt, lp, model, work, outs, cat):
     """SWITCH at t [s] the n_tog gaps in toggles (an impact's onset, with the law's onset hook, or its end:
     ``_switch``), regroup the closed gaps and take the accelerations from equilibrium (the contact force may
-    jump there).  cnt = (impacts, gaps closed, their groups).  Returns (status, cnt)."""
+    jump there), over the stepping runs.  cnt = (impacts, gaps closed, their groups).  Returns (status,
+    cnt)."""
+    n_run = lp[0][2]
     row, gaps = model[0], model[2]
     n_sub = model[4][4]
     st, lists, cs, gf, ev, runs = work[1], work[6], work[7], work[8], work[9], work[11]
@@ -548,28 +419,52 @@ def _switch_events(n_tog, t, cnt, n_run, model, work, outs, cat):
 
 
 @njit(cache=True, inline="always")
-def _end_step(n_wrun, energy, model, work, outs):
-    """The waiting buildings' step (n_wrun runs) accepted with the stepping ones' last (``_commit_waiting``).
-    Returns energy."""
-    row, gaps = model[0], model[2]
-    st, ev, mr, runs, ws = work[1], work[9], work[10], work[11], work[12]
-    e_in, w_int = _commit_waiting(n_wrun, mr, runs, ws, row, gaps, ev[4], st, outs[5], (ev[0], ev[1]), energy[:2])
-    return e_in, w_int, energy[2]
+def _close(step, energy, lp, model, work, outs):
+    """The analysis step's END on the physical path: the waiting buildings' step (lp's wt) accepted with the
+    stepping ones' last (``_commit_waiting``), and output row ``step`` written (its strain energy is
+    pending: it is settled when K u is next formed, ``_settle``).  Returns (energy, lp)."""
+    ps, fb, pending, wt = lp
+    row, gaps, store = model[0], model[2], model[4][7]
+    st, gf, ev, mr, runs, ws = work[1], work[8], work[9], work[10], work[11], work[12]
+    if wt[0]:
+        e_in, w_int = _commit_waiting(wt[1], mr, runs, ws, row, gaps, ev[4], st, outs[5], (ev[0], ev[1]),
+                                      energy[:2])
+        energy = (e_in, w_int, energy[2])
+    if store:  # (the no-pounding twin keeps its peaks only: no histories to write)
+        _output_row(step, st, ev[5], row, gf[0], outs, energy)
+        pending = step
+    return energy, (ps, fb, pending, wt)
 
 
 @njit(cache=True, inline="always")
-def _trial_step(h, lev, clk, cnt, fs, waiting, model, work, outs, stats):
+def _finish(lp, model, work, outs):
+    """The run's end: the last output row's strain energy (``_last_strain``), if it is still pending."""
+    if lp[2] >= 0:
+        _last_strain(lp[2], model[0], work[1], model[8], outs[4])
+
+
+@njit(cache=True, inline="always")
+def _aim(outcome, target, landed, lp, model):
+    """After a substep's attempts: the gap the next substep aims at (the one an accepted step stopped just
+    short of, ``_substep``), none otherwise.  Returns lp."""
+    ps = lp[0]
+    aim = target if outcome == ACCEPT and target >= 0 and not landed else -1
+    return (ps[0], aim) + ps[2:], lp[1], lp[2], lp[3]
+
+
+@njit(cache=True, inline="always")
+def _trial(h, lev, clk, cnt, lp, model, work, outs, stats):
     """One attempt's trial step of h [s]: K_hat(h)'s factor (``_factor_for``), the ground at its end, the
     PREDICTOR with every contact force frozen at zero on the stepping buildings' runs (exact when no gap
     is closed), and the CONTACT NEWTON on the closed gaps' forces (``_contact_newton``).
 
-    clk = (analysis step, t, pending); fs = (the scratch factor's step, stepping runs, gaps screened ...,
-    stepping DOFs).  Returns (factored, converged, h on the grid, gamma/(beta h), the scratch factor's step,
-    pending).
+    clk = (analysis step, t); lp = (ps, fb, pending, wt) (``_begin``).  Returns (factored, converged, h on
+    the grid, gamma/(beta h), lp with the scratch factor's step and the output row pending).
     """
-    step, t, pending = clk
+    step, t = clk
+    ps, pending, waiting = lp[0], lp[2], lp[3][0]
     m_act, n_comp = cnt[1], cnt[2]
-    h_cached, n_run, n_s_dof = fs[0], fs[1], fs[4]
+    h_cached, n_run, n_s_dof = ps[0], ps[2], ps[5]
     row, p, gaps, motion, settings, modal, md, es0 = (model[0], model[1], model[2], model[3], model[4], model[5],
                                                       model[7], model[8])
     dt, beta, gamma, rtol, max_iter = settings[0], settings[2], settings[3], settings[5], settings[6]
@@ -584,7 +479,7 @@ def _trial_step(h, lev, clk, cnt, fs, waiting, model, work, outs, stats):
     ok, Lf, h_cached = _factor_for(lv, h, modal_step, h_cached, fac, row, p, (beta, gamma), runs, n_run, wc[4],
                                    stats)
     if not ok:
-        return False, False, h, 0.0, h_cached, pending
+        return False, False, h, 0.0, ((h_cached,) + ps[1:], lp[1], pending, lp[3])
     cc = gamma / (beta * h)
     if h == dt and t == step * dt:  # a whole analysis step: on the record's grid
         for r in range(ag.shape[0]):
@@ -601,15 +496,24 @@ def _trial_step(h, lev, clk, cnt, fs, waiting, model, work, outs, stats):
         pending = _settle(pending, 0.5 * es, es0, out_e)
     stats[S_ITERATIONS] += 1
     stats[S_DOF_STEPS] += n_s_dof
+    lp = ((h_cached,) + ps[1:], lp[1], pending, lp[3])
     if m_act == 0:
-        return True, True, h, cc, h_cached, pending
+        return True, True, h, cc, lp
     converged, it = _contact_newton((lv, h, cc, waiting), (Lf, fac[2], p, n_run, runs), (m_act, lists[0], n_comp,
                                     lists[1]), wc, semi, gaps, (st[0], Du, Vv, R0, ev[4]), gf, cs[3], nwt,
                                     (rtol, max_iter), stats)
     stats[S_ITERATIONS] += it
     if it > stats[S_MAX_ITER]:
         stats[S_MAX_ITER] = it
-    return True, converged, h, cc, h_cached, pending
+    return True, converged, h, cc, lp
+
+
+@njit(cache=True, inline="always")
+def _join_step(g_ev, t, energy, lp, model, work, outs, stats):
+    """JOIN: the waiting buildings of gap g_ev catch up to t and step with the others from here
+    (``_join_now``).  Returns (ok, energy, lp)."""
+    ok, ps, wt, energy = _join_now(g_ev, t, lp[3], energy, model, work, outs, stats)
+    return ok, energy, (ps, lp[1], lp[2], wt)
 
 
 @njit(cache=True)
@@ -695,7 +599,7 @@ def _start(dt, ag, row, gaps, n_sub, st, F, cs, cat, outs, ev, lists):
     """The state at t = 0: gaps already closing (touching bodies) start an impact, the accelerations follow
     from equilibrium, output row 0 is written and the closed gaps are listed and grouped.
 
-    Tuples as in ``integrate_kernel`` and ``_fast_work``: ev's (d0, r0) each gap's penetration [m] and rate
+    Tuples as in ``_driver.integrate_kernel`` and ``_fast_work``: ev's (d0, r0) each gap's penetration [m] and rate
     [m/s] and g_t filled; lists' (act_list, comp_off) filled.  Returns (status, n_impacts, gaps closed,
     contact groups, energy present at t = 0 [J] (counted as input), strain energy at t = 0 [J])."""
     mass, dof_a0, dof_motion, el_i, el_j, el_k, el_a1 = row

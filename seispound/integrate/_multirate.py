@@ -174,7 +174,7 @@ def _screen_list(in_s, gb_lo, gb_hi, scr):
     return n_ss, n_scr
 
 
-# The phases of multi-rate stepping in the fast driver (``_kernel.integrate_kernel``).  Their tuples:
+# The phases of multi-rate stepping in the fast driver (``_driver.integrate_kernel``).  Their tuples:
 # mr = (blk_dof, blk_el, dof_blk, gb_lo, gb_hi, in_s, was_s, scr): each building's first DOF and element
 # (nb + 1,), each DOF's building (n,), the buildings each gap links (ng,), who steps now and before (nb,)
 # bool, the gaps screened (``_screen_list``); runs = (r_lo, r_hi, r_elo, r_ehi, w_lo, w_hi, w_elo, w_ehi):

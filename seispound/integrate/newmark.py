@@ -13,7 +13,8 @@ import numpy as np
 from ..errors import InputError
 from .settings import Newmark
 from ..motion.spatial import ground_motion_integrals
-from . import _kernel as K
+from . import _driver as D
+from . import _outputs as O
 from ..structure.band import bandwidth, envelope, profile_order
 from ._multirate import WAIT_SHARE
 from .modal import dof_blocks, modal_basis
@@ -219,12 +220,14 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         bookkeeping costs more than the substeps it saves); 0 lets any
         building wait.
     driver : {"auto", "fast", "general"}
-        "auto" (default): the fast driver (``_kernel.py``: lumped masses,
-        linear two-node storeys, floor-to-floor gaps; free flight, multi-rate
-        and the exact scheme where valid), or the general one
-        (``_general.py``: any element with state, coupled masses, elements on
-        three DOFs, gaps against storeys; Newmark throughout, every
-        optimisation off) when the row needs it
+        The one time loop (``_driver.drive``) runs over one of two linear
+        parts.  "auto" (default): the two-node part, the fast driver
+        (``_kernel.py``: lumped masses, linear two-node storeys,
+        floor-to-floor gaps; modal free flight, multi-rate and the exact
+        scheme where valid), or the coefficient-vector part, the general
+        driver (``_general.py``: any element with state, coupled masses,
+        elements on three DOFs, gaps against storeys; free flight by each
+        building's map where valid) when the row needs it
         (``SystemArrays.needs_general_driver``).  "general" forces the
         general driver on any row: the off switch the tests compare against.
     substeps : int, optional
@@ -313,9 +316,9 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
             out_a=hist[2 * nt * n:3 * nt * n].reshape(nt, n),
             out_f=hist[3 * nt * n:nt * (3 * n + ng)].reshape(nt, ng), out_e=hist[nt * (3 * n + ng):].reshape(nt, 6),
             umax=np.empty(n), fmax=np.empty(ng), **_catalogue(cap))
-        announce_compile(K.integrate_kernel, "fast")
+        announce_compile(D.integrate_kernel, "fast")
         f = _writable
-        return (*K.integrate_kernel(
+        return (*D.integrate_kernel(
             tuple(f(system.mass, system.dof_a0, system.dof_motion, system.el_i, system.el_j, system.el_k,
                     system.el_a1)), int(system.bandwidth), tuple(f(system.u0, system.v0)),
             tuple(f(gap_i, gap_j, gap_lo, gap_hi, gap_size, gap_law, gap_par)), (*f(ag), moving, *f(ground)),
@@ -325,7 +328,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
             tuple(out[k] for k in _OUTPUTS), tuple(out[k] for k in _CATALOGUE), out["stats"]), out)
 
     n_imp, out = _run_growing(run, cap)
-    out["out_e"][:, K.E_HYSTERETIC] = 0.0  # no storey with history on this path
+    out["out_e"][:, O.E_HYSTERETIC] = 0.0  # no storey with history on this path
     imp = {k[4:]: out[k][:n_imp].copy() for k in out if k.startswith("imp_")}
     imp["gap"] = live[imp["gap"]]  # back to the system's gap numbering
     if live.size == ng_all:  # every gap in the kernel: its force history as it stands
@@ -336,11 +339,11 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
     peak_force = np.zeros(ng_all)
     peak_force[live] = out["fmax"]
     st = out["stats"]
-    stats = dict(steps=int(st[K.S_STEPS]), iterations=int(st[K.S_ITERATIONS]),
-                 rejected=int(st[K.S_REJECTED]), factorizations=int(st[K.S_FACTORIZATIONS]),
-                 max_iterations=int(st[K.S_MAX_ITER]), free_flight_steps=int(st[K.S_FREE_FLIGHT]),
-                 free_flight_blocks=int(st[K.S_BLOCKS]), waiting_steps=int(st[K.S_WAITING]),
-                 joins=int(st[K.S_JOINS]), dof_steps=int(st[K.S_DOF_STEPS]))
+    stats = dict(steps=int(st[O.S_STEPS]), iterations=int(st[O.S_ITERATIONS]),
+                 rejected=int(st[O.S_REJECTED]), factorizations=int(st[O.S_FACTORIZATIONS]),
+                 max_iterations=int(st[O.S_MAX_ITER]), free_flight_steps=int(st[O.S_FREE_FLIGHT]),
+                 free_flight_blocks=int(st[O.S_BLOCKS]), waiting_steps=int(st[O.S_WAITING]),
+                 joins=int(st[O.S_JOINS]), dof_steps=int(st[O.S_DOF_STEPS]))
     return RawResult(time=np.arange(nt) * dt, displacement=out["out_u"], velocity=out["out_v"],
                      acceleration=out["out_a"], force=force, energy=out["out_e"],
                      peak_displacement=out["umax"], peak_force=peak_force, impacts=imp, stats=stats,
@@ -399,7 +402,7 @@ def _catalogue(cap) -> dict:
     """Empty impact catalogue arrays of ``cap`` rows and the counters, as both drivers take them."""
     return dict(imp_gap=np.empty(cap, np.int64), imp_t0=np.empty(cap), imp_v0=np.empty(cap), imp_vout=np.empty(cap),
                 imp_fmax=np.empty(cap), imp_dur=np.empty(cap), imp_zeta=np.empty(cap), imp_e=np.empty(cap),
-                stats=np.zeros(K.N_STATS, np.int64))
+                stats=np.zeros(O.N_STATS, np.int64))
 
 
 def _substeps(nm) -> int:
@@ -414,10 +417,10 @@ def _run_growing(run, cap):
     returns (n_impacts, outputs)."""
     while True:
         status, n_imp, t_reached, out = run(cap)
-        if status == K.IMPACT_CAPACITY:
+        if status == O.IMPACT_CAPACITY:
             cap *= 4
             continue
-        if status != K.OK:
+        if status != O.OK:
             raise IntegrationError(f"Newton-Raphson did not converge at t = {t_reached:.6g} s "
                                    f"(try a smaller analysis.dt or more contact_substeps)")
         return n_imp, out
@@ -462,7 +465,6 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
                        scheme="exact", elastic_predictor=True, hysteretic_flight=True) -> RawResult:
     """``integrate`` on the general driver (``_general.py``): every law through the material protocol, Newmark
     steps, and the analysis steps with no element active in free flight (``transition.py``) where valid."""
-    from . import _general as G
     from ._material import N_STATE
 
     ag = np.ascontiguousarray(np.atleast_2d(np.asarray(ground_acceleration, dtype=float)))
@@ -501,9 +503,9 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
         out = dict(out_u=np.zeros((nt, n)), out_v=np.zeros((nt, n)), out_a=np.zeros((nt, n)),
                    out_f=np.zeros((nt, nn)), out_e=np.zeros((nt, 6)), umax=np.zeros(n), fmax=np.zeros(nn),
                    **_catalogue(cap))
-        announce_compile(G.general_kernel, "general")
+        announce_compile(D.general_kernel, "general")
         f = _writable
-        return (*G.general_kernel(
+        return (*D.general_kernel(
             tuple(row["linear"]), int(tab["p"]), row["numbering"], tuple(row["elements"]),
             np.zeros((nn, N_STATE)), (*f(ag), moving, *f(ground)), (u0, v0),
             (float(dt), int(nsteps), float(nm.beta), float(nm.gamma), (_substeps(nm), float(contact_step)),
@@ -525,10 +527,10 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     gap_of_element[gap_cols] = live
     imp["gap"] = gap_of_element[imp["gap"]]
     st = out["stats"]
-    stats = dict(steps=int(st[K.S_STEPS]), iterations=int(st[K.S_ITERATIONS]),
-                 rejected=int(st[K.S_REJECTED]), factorizations=int(st[K.S_FACTORIZATIONS]),
-                 max_iterations=int(st[K.S_MAX_ITER]), free_flight_steps=int(st[K.S_FREE_FLIGHT]), free_flight_blocks=0,
-                 waiting_steps=0, joins=0, dof_steps=int(st[K.S_DOF_STEPS]))
+    stats = dict(steps=int(st[O.S_STEPS]), iterations=int(st[O.S_ITERATIONS]),
+                 rejected=int(st[O.S_REJECTED]), factorizations=int(st[O.S_FACTORIZATIONS]),
+                 max_iterations=int(st[O.S_MAX_ITER]), free_flight_steps=int(st[O.S_FREE_FLIGHT]), free_flight_blocks=0,
+                 waiting_steps=0, joins=0, dof_steps=int(st[O.S_DOF_STEPS]))
     return RawResult(time=np.arange(nt) * dt, displacement=out["out_u"], velocity=out["out_v"],
                      acceleration=out["out_a"], force=force, energy=out["out_e"],
                      peak_displacement=out["umax"], peak_force=peak_force, impacts=imp, stats=stats,

@@ -3,7 +3,7 @@
 import io
 from types import SimpleNamespace
 
-from seispound.integrate import _general as G
+from seispound.integrate import _driver as D
 from seispound.integrate import newmark
 
 
@@ -35,5 +35,5 @@ def test_silent_when_compiled_or_cached(tmp_path, monkeypatch):
 
 def test_the_real_kernel_has_the_cache_layout_the_notice_reads():
     # numba's FunctionCache keeps its index path here; if a numba release moves it, the notice goes quiet
-    assert G.general_kernel._cache._cache_file._index_path.endswith(".nbi")
-    assert isinstance(G.general_kernel.overloads, dict)
+    assert D.general_kernel._cache._cache_file._index_path.endswith(".nbi")
+    assert isinstance(D.general_kernel.overloads, dict)

@@ -12,8 +12,7 @@ import numpy as np
 
 import seispound as sp
 from seispound._jit import njit
-from seispound.integrate import _general as G
-from seispound.integrate import _kernel as K
+from seispound.integrate import _driver as D
 from seispound.integrate import newmark
 
 
@@ -35,13 +34,16 @@ def yielding_and_foundation():
 
 def test_a_run_and_its_twin_share_one_fast_kernel():
     sp.simulate(sp.load_model("models/two_buildings.toml"))  # the pounding run and its twin
-    assert len(K.integrate_kernel.signatures) == 1
+    assert len(D.integrate_kernel.signatures) == 1
+    assert len(D.drive_two_node.signatures) <= 1  # (none when the entry point comes from the cache)
 
 
 def test_yielding_storeys_and_a_foundation_share_one_general_kernel():
     for model in yielding_and_foundation():
         sp.simulate(model, twin=False)
-    assert len(G.general_kernel.signatures) == 1
+    assert len(D.general_kernel.signatures) == 1
+    # one time loop, compiled once per linear part (two-node, coefficient vectors) and no more
+    assert len(D.drive_coupled.signatures) <= 1
 
 
 def test_kernel_inputs_are_writable_copies_only_when_frozen():

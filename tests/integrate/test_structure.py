@@ -26,7 +26,8 @@ def _compiled_functions():
         for node in ast.walk(tree):
             if not isinstance(node, ast.FunctionDef):
                 continue
-            if not any("jit" in ast.unparse(d) for d in node.decorator_list):
+            bound = path.name == "_driver.py" and node.name == "drive"  # compiled per linear part by ``_bind``
+            if not bound and not any("jit" in ast.unparse(d) for d in node.decorator_list):
                 continue
             body = node.body
             doc = isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) \
@@ -37,7 +38,7 @@ def _compiled_functions():
 
 def test_the_scan_sees_the_drivers():
     names = {name for _, name, _, _ in _compiled_functions()}
-    assert {"integrate_kernel", "general_kernel", "material_trial"} <= names
+    assert {"drive", "integrate_kernel", "general_kernel", "material_trial"} <= names
     assert len(names) > 100
 
 
@@ -101,7 +102,7 @@ def _inlined_lines():
 
 def test_the_inline_scan_sees_the_phases():
     sizes = _inlined_lines()
-    assert sizes[("seispound.integrate._kernel", "_trial_step")] > sizes[("seispound.integrate._kernel", "_accept")]
+    assert sizes[("seispound.integrate._kernel", "_trial")] > sizes[("seispound.integrate._kernel", "_accept")]
     assert len(sizes) > 50
 
 

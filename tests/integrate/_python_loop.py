@@ -1,8 +1,8 @@
 """Run cases of ``kernel_reference.cases`` through the time loop as Python (``NUMBA_DISABLE_JIT``).
 
 ``python -m tests.integrate._python_loop OUT.npz NAME:NSTEPS:DRIVER ...`` (a subprocess of
-``test_driver.py``: numba reads ``NUMBA_DISABLE_JIT`` once, at import).  The borrowed-array
-intrinsics, which have no Python form, become the identity.
+``test_driver.py``: numba reads ``NUMBA_DISABLE_JIT`` once, at import).  Run so, the borrowed-array
+intrinsics, which have no Python form, become the identity; imported, the module changes nothing.
 """
 
 from __future__ import annotations
@@ -11,24 +11,23 @@ import sys
 
 import numpy as np
 
-import seispound.integrate._borrow as _borrow
-
-_borrow.borrow = _borrow.borrow_all = lambda x: x
-_borrow.keep_alive = lambda x: None
-
-from seispound.integrate import integrate  # noqa: E402 (after the intrinsics are replaced)
-from tests.integrate.kernel_reference import cases  # noqa: E402
-
 FIELDS = ("displacement", "velocity", "acceleration", "force", "energy", "peak_displacement", "peak_force")
 
 
 def run(name: str, nsteps: int, driver: str):
     """The raw result of case ``name``'s first ``nsteps`` steps on ``driver``."""
+    from seispound.integrate import integrate
+    from tests.integrate.kernel_reference import cases
+
     system, ag, dt, _, kw = cases()[name]
     return integrate(system, ag[..., :nsteps + 1], dt, nsteps, driver=driver, **kw)
 
 
 def main(out: str, specs: list[str]) -> None:
+    import seispound.integrate._borrow as _borrow
+
+    _borrow.borrow = _borrow.borrow_all = lambda x: x
+    _borrow.keep_alive = lambda x: None
     saved = {}
     for spec in specs:
         name, nsteps, driver = spec.split(":")

@@ -10,7 +10,7 @@ command 1, with the cache now filled, is timed for comparison.
 ``--passes``: instead, where a driver's cold compile goes.  In a child process with an empty
 cache, the first ``simulate`` of ``models/two_buildings.toml`` (the fast driver) and of
 ``models/yielding_pair.toml`` (the general driver), with numba's per-pass timings of each
-driver's kernel (``pipeline_times`` in the compile's metadata: type inference, SSA
+linear part's loop (``_driver.drive_two_node``, ``drive_coupled``, with its phases inlined; ``pipeline_times`` in the compile's metadata: type inference, SSA
 reconstruction, lowering, ...; a pass's time includes the compiles of the functions it reaches
 first) and LLVM's own total (``NUMBA_LLVM_PASS_TIMINGS``), and the compile events of the
 functions it compiled (``numba.core.event``), by exclusive time.
@@ -53,8 +53,8 @@ warnings.simplefilter("ignore")
 from numba.core import event
 import seispound as sp
 from seispound.integrate import _driver
-for model, kernel in (("models/two_buildings.toml", _driver.integrate_kernel),
-                      ("models/yielding_pair.toml", _driver.general_kernel)):
+for model, kernel in (("models/two_buildings.toml", _driver.drive_two_node),
+                      ("models/yielding_pair.toml", _driver.drive_coupled)):  # the loop, with its phases inlined
     with event.install_recorder("numba:compile") as rec:
         t0 = time.perf_counter()
         sp.simulate(sp.load_model(model))

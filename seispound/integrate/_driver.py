@@ -115,6 +115,10 @@ def drive(model, work, lp, cnt, energy, outs, cat, stats):
     cnt = (impacts, elements active, their groups); energy: the work accumulated [J] (the linear part's
     tuple); outs, cat, stats as the entry points take them.
     """
+    # borrowed here as well as by the caller: arguments' reference counts are unknown to LLVM, borrowed ones
+    # are null in this function's own code, so that it drops every reference-count operation in the loop
+    model, work, outs, cat = borrow_all((model, work, outs, cat))
+    stats = borrow(stats)
     dt, nsteps = model.settings[0], model.settings[1]
     hmin = 1e-9 * dt  # events closer than this to a step's start switch in place
     t = 0.0

@@ -41,6 +41,7 @@ from .._blas import single_threaded
 from .hypotheses import ALTERNATIVES, HYPOTHESES
 from .locate import locate, noise_ne as channel_noise_ne
 from .polish_order import PolishOrder
+from .quantities import storey_reach
 from .signature import (
     BAND,
     Z_ROCKING,
@@ -607,7 +608,8 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
             steps = []
         elif partial:
             tried[first_step.name].update(accepted=True, named_with=second.name)
-    left_out = _left_out([st for st in steps if st.name in HYPOTHESES], base_fit, n_eff, signature)
+    left_out = _left_out([st for st in steps if st.name in HYPOTHESES], base_fit, n_eff, signature,
+                         lambda fit: storey_reach(tomllib.loads(fit.model_text), base, chans, trial_list))
     wrong = [{"what": ALTERNATIVES[st.name].what, "name": st.name,
               "evidence": f"refitted, the mean NE falls from {st.prev.fit.ne_mean_after:.4f} to "
                           f"{st.fit.ne_mean_after:.4f} and the information criterion by {st.prev.bic - st.bic:.0f}",
@@ -1260,8 +1262,11 @@ def _posterior(entries, name) -> float:
     return w[name] / (math.exp(lo / 2.0) + sum(w.values()))
 
 
-def _left_out(steps, base_fit, n_eff, signature) -> list:
-    """The accepted physics in the order they were added: evidence, share of the improvement, quantities."""
+def _left_out(steps, base_fit, n_eff, signature, reach_of=None) -> list:
+    """The accepted physics in the order they were added: evidence, share of the improvement, quantities.
+
+    reach_of(fit): building name -> the largest storey deformation [m] of a fitted model over the record
+    (``quantities.storey_reach``), read for yielding storeys only (a yield drift beyond it is not identified)."""
     from .quantities import quantities
 
     total = base_fit.ne_mean_after - (steps[-1].fit.ne_mean_after if steps else base_fit.ne_mean_after)
@@ -1285,8 +1290,11 @@ def _left_out(steps, base_fit, n_eff, signature) -> list:
                     f"{hyp.signature}",
                     "share": (before - st.fit.ne_mean_after) / total if total > 0 else 1.0,
                     **({"together_with": together} if together else {}),
-                    "probability": round(st.probability, 4), "quantities": quantities(st.name, st.fit)})
-        defining = [q for q in out[-1]["quantities"] if q.get("defining")]
+                    "probability": round(st.probability, 4),
+                    "quantities": quantities(st.name, st.fit, reach_of(st.fit) if reach_of is not None
+                                             and st.name == "inelastic-storey" else None)})
+        # (a yield drift beyond the storeys' reach is not identified, but the hysteresis below it is seen)
+        defining = [q for q in out[-1]["quantities"] if q.get("defining") and not q.get("beyond_reach")]
         if defining and all(q.get("stderr") is None for q in defining):
             # the fit improved, but not by anything this physics adds to the base model
             q = defining[0]

@@ -22,7 +22,8 @@ Quantities (units in each entry):
   of the rod floor as modelled), the axial damping ratio; or, for a body on a compliant joint,
   the body's mass and its natural frequency on the joint;
 * inelastic-storey: each building's yield drift, the post-yield stiffness ratio (and Bouc-Wen's
-  exponent);
+  exponent); a yield drift larger than every storey deformation of the fitted run is not identified
+  (a Bouc-Wen or degrading storey departs from linearity below it, and the fit reads that, not the yield);
 * velocity-dependent-restitution: e at impact velocities of 0.1 and 0.5 m/s, and the change of e
   between them (the velocity dependence itself, marked ``defining``);
 * spatially-varying-input: each building's delay (and low-pass corner), or the share of the motion recorded
@@ -38,7 +39,7 @@ import numpy as np
 
 from ..calibrate.fit import interval68
 
-__all__ = ["quantities", "flexible_base_period"]
+__all__ = ["quantities", "flexible_base_period", "storey_reach"]
 
 UNDETERMINED = 0.5  # a standard error above this fraction of the value: the quantity is reported as undetermined
 
@@ -220,12 +221,13 @@ def _rods(fit, data):
     return out
 
 
-def _yielding(fit, data):
+def _yielding(fit, data, reach=None):
     out = []
     for path in fit.parameters:
         if path.endswith("storey_law.yield_drift"):
-            out.append(_delta(fit, f"{path.split('.')[1]}: yield drift", "m", lambda x, p=path: x[p], [path],
-                              defining=True))
+            name = path.split(".")[1]
+            q = _delta(fit, f"{name}: yield drift", "m", lambda x, p=path: x[p], [path], defining=True)
+            out.append(_beyond_reach(q, name, reach))
     for key, what in (("post_yield_ratio", "post-yield stiffness ratio"), ("n", "Bouc-Wen exponent"),
                       ("strength_degradation", "strength degradation rate delta_nu (Baber & Wen)"),
                       ("stiffness_degradation", "stiffness degradation rate delta_eta (Baber & Wen)"),
@@ -236,6 +238,54 @@ def _yielding(fit, data):
         if path in fit.parameters:
             out.append(_delta(fit, what, "-", lambda x, p=path: x[p], [path]))
     return out
+
+
+def _beyond_reach(q, name, reach):
+    """A yield drift that the fitted model's storeys never reach is not identified: the record shows how far
+    the storeys depart from linearity below it, not where they yield.
+
+    reach: building name -> the largest storey deformation [m] of the fitted model over the recorded motion
+    (``storey_reach``); ``*`` (one yield drift for every building) takes the largest of all.  The quantity
+    keeps its value, loses its standard error and says why; ``beyond_reach`` marks it, so that the physics
+    itself is not called unshown for it (``api._left_out``).
+    """
+    if not reach or q.get("stderr") is None:
+        return q
+    top = max(reach.values()) if name == "*" else reach.get(name)
+    if top is None or top >= q["value"]:
+        return q
+    return {**{k: v for k, v in q.items() if k not in ("stderr", "dof", "half68")}, "stderr": None,
+            "beyond_reach": True,
+            "reason": f"the fitted storeys of {'the row' if name == '*' else name} reach at most {top:.3g} m "
+                      f"({100 * top / q['value']:.0f} % of it): the record shows their departure from linearity, "
+                      "not where they yield"}
+
+
+def storey_reach(model_data, base, channels, trials) -> dict:
+    """Building name -> the largest storey deformation [m] of the model ``model_data`` over the trials' motion.
+
+    Each trial is run as a fit's evaluation runs it (``calibrate.observe.Observer``); a storey's deformation is
+    its two floors' relative displacement (on a foundation, the deformation of the storey's springs).
+    """
+    from ..calibrate.observe import Observer
+    from ..results.floors import floor_view
+    from ..simulation import run_inputs, run_row
+
+    obs, reach = Observer(model_data, base, channels, trials), {}
+    for trial in trials:
+        model = obs.model_for(trial, [])
+        system, motions = run_inputs(model)
+        view, floors = floor_view(run_row(model, system, motions.rows, limit_contact_step=False), system)
+        for b, building in enumerate(model.buildings):
+            cols = np.flatnonzero(np.asarray(floors.dof_building) == b)
+            if view.drift is not None:
+                d = view.drift[:, cols]
+            else:  # one DOF per floor, in floor order: the storey below floor f is u_f - u_(f-1), u_0 = 0
+                u = view.displacement[:, cols[np.argsort(np.asarray(floors.dof_floor)[cols])]]
+                d = np.diff(u, axis=1, prepend=0.0)
+            top = float(np.abs(d).max()) if d.size else 0.0
+            reach[building.name] = max(reach.get(building.name, 0.0), top)
+    return reach
 
 
 def _restitution(fit, data):
@@ -271,13 +321,17 @@ _QUANTITIES = {"soil-structure-interaction": _soil, "distributed-mass": _rods, "
                "velocity-dependent-restitution": _restitution, "spatially-varying-input": _delays}
 
 
-def quantities(name: str, fit) -> list[dict]:
-    """The physics ``name``'s quantities from its fit (a CalibrationResult): [{name, value, stderr, units}]."""
+def quantities(name: str, fit, reach=None) -> list[dict]:
+    """The physics ``name``'s quantities from its fit (a CalibrationResult): [{name, value, stderr, units}].
+
+    reach: for yielding storeys, building name -> the fitted model's largest storey deformation [m]
+    (``storey_reach``); a yield drift beyond it is reported as not identified (``_beyond_reach``)."""
     fn = _QUANTITIES.get(name)
     if fn is None:
         return []
     try:
-        return fn(fit, tomllib.loads(fit.model_text))
+        data = tomllib.loads(fit.model_text)
+        return fn(fit, data, reach) if fn is _yielding else fn(fit, data)
     except Exception as exc:  # noqa: BLE001 (a quantity that cannot be derived is reported, not fatal)
         return [{"name": "quantities", "value": float("nan"), "stderr": None, "units": "",
                  "reason": f"could not be derived ({type(exc).__name__}: {exc})"}]

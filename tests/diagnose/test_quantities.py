@@ -157,3 +157,73 @@ def test_a_physics_with_several_defining_quantities_is_shown_by_any_one_of_them(
     step.fit = fit(0.05)  # B's delay within its interval of zero too
     item = _left_out([step], prev.fit, 1000.0, {})[0]
     assert item["caveat"].startswith("the data do not show spatially-varying-input itself: none of B: delay")
+
+
+def _yield_fit(values, stderr=1e-3):
+    from seispound.calibrate.fit import CalibrationResult
+
+    par = lambda v: dict(value=v, start=v, stderr=stderr, lo=1e-4, hi=1.0, at_bound=False, factor=False)  # noqa: E731
+    return CalibrationResult(parameters={f"building.{b}.storey_law.yield_drift": par(v) for b, v in values.items()},
+                             correlation=np.eye(len(values)), ne_before={}, ne_after={}, ne_mean_before=0,
+                             ne_mean_after=0, evaluations=0, seconds=0, model_text="", n=1, n_eff=1, success=True,
+                             message="")
+
+
+def test_a_yield_drift_beyond_the_storeys_reach_is_not_identified():
+    """A yield drift larger than every storey deformation of the fitted run is read off the storeys' departure
+    from linearity below it (Bouc-Wen, degrading forms), not off yielding: it keeps its value, loses its
+    standard error and says why.  One the storeys pass keeps its standard error; one drift for the whole row
+    (``*``) is compared with the largest deformation of any building."""
+    from seispound.diagnose.quantities import _yielding
+
+    qs = {q["name"]: q for q in _yielding(_yield_fit({"A": 0.02, "B": 0.01}), {}, {"A": 0.015, "B": 0.012})}
+    a, b = qs["A: yield drift"], qs["B: yield drift"]
+    assert a["stderr"] is None and a["beyond_reach"] and "0.015 m (75 % of it)" in a["reason"] and a["value"] == 0.02
+    assert abs(b["stderr"] - 1e-3) < 1e-12 and "beyond_reach" not in b and b["defining"]
+    row = _yielding(_yield_fit({"*": 0.013}), {}, {"A": 0.010, "B": 0.014})[0]
+    assert abs(row["stderr"] - 1e-3) < 1e-12
+    row = _yielding(_yield_fit({"*": 0.015}), {}, {"A": 0.010, "B": 0.014})[0]
+    assert row["stderr"] is None and "the row reach at most 0.014 m" in row["reason"]
+    assert abs(_yielding(_yield_fit({"A": 0.02}), {}, None)[0]["stderr"] - 1e-3) < 1e-12  # no run to compare with
+
+
+def test_a_yielding_physics_shown_below_its_yield_drift_carries_no_caveat():
+    """The caveat "the data do not show the physics itself" is for a fit whose defining quantities the data
+    do not constrain; a yield drift beyond the storeys' reach still comes with a hysteresis the fit reads."""
+    from types import SimpleNamespace
+
+    from seispound.diagnose.api import _left_out
+
+    fit = _yield_fit({"A": 0.02})
+    prev = SimpleNamespace(name=None, fit=SimpleNamespace(ne_mean_after=0.05), bic=20.0)
+    step = SimpleNamespace(name="inelastic-storey", prev=prev, fit=fit, gain=0.6, bic=-10.0, probability=0.9)
+    item = _left_out([step], prev.fit, 1000.0, {}, lambda f: {"A": 0.01})[0]
+    assert item["quantities"][0]["beyond_reach"] and "caveat" not in item
+    assert item["quantities"][0]["stderr"] is None
+    assert _left_out([step], prev.fit, 1000.0, {}, lambda f: {"A": 0.03})[0]["quantities"][0]["stderr"] > 0
+
+
+def test_storey_reach_is_the_peak_drift_of_the_fitted_run(tmp_path):
+    """The largest storey deformation that ``storey_reach`` reads from a fit's run equals the largest
+    ``peak_drift`` of ``simulate``'s result for the same model and motion, per building (kind: regression
+    guard; two code paths of the package, the fit's lean run and the Dataset's peaks, on the yielding pair
+    with bilinear and Bouc-Wen storeys)."""
+    import tomllib
+
+    import seispound as sp
+    from seispound.calibrate.observe import Trial
+    from seispound.calibrate.recording import Recording
+    from seispound.diagnose.quantities import storey_reach
+    from tests._models import short_copy
+
+    path = short_copy(tmp_path, 4.0, "yielding_pair.toml")
+    data = tomllib.loads(path.read_text(encoding="utf-8"))
+    dt = data["analysis"].get("dt", 0.005)
+    n = int(round(4.0 / dt)) + 1
+    reach = storey_reach(data, tmp_path, [], [Trial(Recording(dt, {"x": np.zeros(n)}, []))])
+    model = sp.load_model(path)
+    ds = sp.simulate(model, twin=False)
+    for b in ds.building.values:
+        peak = float(ds.peak_drift.sel(building=b).max())
+        print(f"MEASURED {b}: storey_reach {reach[str(b)]:.6g} m, peak_drift {peak:.6g} m")
+        assert peak > 1e-3 and abs(reach[str(b)] / peak - 1) < 1e-9  # measured: equal to the printed digits

@@ -3,9 +3,10 @@
 Degrees of freedom are numbered building by building, floors from the ground
 up, so each building's stiffness is a contiguous tridiagonal block and the
 linear operator is banded.  Every linear element is a two-node spring
-(``el_i``, ``el_j``; ``el_j = -1`` means the ground), which leaves room for
-extra degrees of freedom (foundations, rods) and, later, per-element history
-state (yielding storeys) without changing the kernel's interface.
+(``el_i``, ``el_j``; ``el_j = -1`` means the ground).  Extra degrees of freedom (foundations,
+rods) and storeys with history (yielding storeys) are elements of the same kind or, where they
+couple more than two DOFs, coefficient-vector elements (``SystemArrays``, run on the
+coefficient-vector linear part: ``integrate/_general.py``).
 """
 
 from __future__ import annotations

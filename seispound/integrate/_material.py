@@ -230,7 +230,8 @@ def bouc_wen_advance(par, q, z, eps, total):
     """(z, eps, dz/d(total), dz/d(delta) at the start, |z/dy|^n and its derivative at the end) of Bouc-Wen storey
     q after its deformation moves monotonically by ``total`` [m].
 
-    z [m] is carried over sub-increments of at most BW_SUBINCREMENT dy, each by the implicit
+    At the exponents 1 and 2, without degradation or pinching, z comes from the law's closed form along the
+    move (``_bouc_wen_exact``).  Otherwise z [m] is carried over sub-increments of at most BW_SUBINCREMENT dy, each by the implicit
     trapezoidal rule z1 = z0 + d/2 (Phi(z0) + Phi(z1)), solved by Newton; the tangent is the
     derivative of that map (chain rule over the sub-increments).  Phi and its derivative at the
     end of a sub-increment are those of Newton's last iterate, which the last correction moved
@@ -255,6 +256,10 @@ def bouc_wen_advance(par, q, z, eps, total):
     gamma = par[q, BW_GAMMA]
     dnu = par[q, BW_DNU]
     deta = par[q, BW_DETA]
+    if (n == 2.0 or n == 1.0) and dnu == 0.0 and deta == 0.0 and par[q, BW_PINCH] == 0.0:
+        out = _bouc_wen_exact(z, eps, total, dy, n, beta, gamma)
+        if out[0] == out[0]:  # (NaN: a state outside the law's range, taken by the sub-increments below)
+            return out
     n_sub = min(BW_MAX_SUB, 1 + int(abs(total) / (BW_SUBINCREMENT * dy)))
     d = total / n_sub
     dz = 0.0  # dz/d(total)
@@ -286,6 +291,93 @@ def bouc_wen_advance(par, q, z, eps, total):
         eps += 0.5 * (z + z1) * d / (dy * dy)
         z = z1
     return z, eps, dz, p_start, xn, dxn
+
+
+@njit(cache=True)
+def _bouc_wen_exact(z, eps, total, dy, n, beta, gamma):
+    """``bouc_wen_advance`` in closed form for n = 1 or 2, without degradation or pinching.
+
+    Along a monotonic move the law is the autonomous equation dX/dU = 1 - c |X|^n in X = s z / dy and
+    U = s delta / dy (s the move's sign, so U grows), with c = beta + gamma where X >= 0 and gamma - beta
+    where X < 0 (Wen 1976, Eq. 2, with A = 1).  For n = 2, X(U) = tanh(a U + atanh(a X0)) / a (c = a^2 > 0;
+    coth above saturation), tan(b U + atan(b X0)) / b (c = -b^2) or X0 + U (c = 0); for n = 1 and k = c
+    sign(X), X(U) = X0 e^(-k U) - expm1(-k U) / k.  A move that starts at X0 < 0 runs to X = 0 first (U* from
+    the same forms) and on with the other c.  The slopes are 1 - c |X|^n at both ends, and dz/d(total) is the
+    slope at the end (an autonomous equation's solution moves with its end's rate).  Derived here, not read;
+    verified against SciPy's ``solve_ivp`` (``tests/integrate/test_hysteretic_paths.py``).  eps, which only
+    degradation and pinching read, is advanced by the trapezoidal rule over each part.  A state the law
+    cannot leave in the move's direction (a slope <= 0 at the start, a tan past its pole) returns NaN: the
+    caller's sub-increments take it.  Returns as ``bouc_wen_advance``.
+    """
+    s = 1.0 if total >= 0.0 else -1.0
+    x = s * z / dy
+    u = s * total / dy
+    cn, cp = gamma - beta, gamma + beta  # c where X < 0 (unloading) and where X >= 0 (loading)
+    p_start = _bw_slope(x, cn, cp, n)
+    if not p_start > 0.0 and u > 0.0:
+        return np.nan, eps, 0.0, 0.0, 0.0, 0.0
+    if x < 0.0 and u > 0.0:
+        u0 = _bw_to_zero(x, cn, n)  # the move that brings X to 0
+        if u0 < u:
+            eps += 0.5 * x * u0
+            u -= u0
+            x = 0.0
+        else:
+            x1 = _bw_run(x, u, cn, n)
+            eps += 0.5 * (x + x1) * u
+            x, u = x1, 0.0
+    if u > 0.0:
+        x1 = _bw_run(x, u, cp, n)
+        eps += 0.5 * (x + x1) * u
+        x = x1
+    if x != x:
+        return np.nan, eps, 0.0, 0.0, 0.0, 0.0
+    z1 = s * x * dy
+    xn, dxn = _bouc_wen_power(z1, dy, n)
+    return z1, eps, _bw_slope(x, cn, cp, n), p_start, xn, dxn
+
+
+@njit(cache=True, inline="always")
+def _bw_slope(x, cn, cp, n):
+    """dX/dU = 1 - c |X|^n at X (``_bouc_wen_exact``; n = 1 or 2, written as products)."""
+    ax = abs(x)
+    return 1.0 - (cp if x >= 0.0 else cn) * (ax * ax if n == 2.0 else ax)
+
+
+@njit(cache=True, inline="always")
+def _bw_to_zero(x, c, n):
+    """The move U* [-] that brings X < 0 to 0 under dX/dU = 1 - c |X|^n (``_bouc_wen_exact``)."""
+    if c == 0.0:
+        return -x
+    if n == 1.0:
+        return np.log1p(c * x) / -c  # X0 e^(cU) + expm1(cU) / c = 0
+    if c > 0.0:
+        a = np.sqrt(c)
+        return -np.arctanh(a * x) / a
+    b = np.sqrt(-c)
+    return -np.arctan(b * x) / b
+
+
+@njit(cache=True, inline="always")
+def _bw_run(x, u, c, n):
+    """X after a move U >= 0 under dX/dU = 1 - c |X|^n, X keeping its sign (``_bouc_wen_exact``); NaN past a
+    pole."""
+    if c == 0.0:
+        return x + u
+    if n == 1.0:
+        k = c if x >= 0.0 else -c
+        return x * np.exp(-k * u) - np.expm1(-k * u) / k
+    if c > 0.0:
+        a = np.sqrt(c)
+        w = a * x
+        if abs(w) < 1.0:
+            return np.tanh(a * u + np.arctanh(w)) / a
+        if w == 1.0:
+            return x
+        return 1.0 / (a * np.tanh(a * u + np.arctanh(1.0 / w)))  # above saturation: coth, decaying to 1 / a
+    b = np.sqrt(-c)
+    arg = b * u + np.arctan(b * x)
+    return np.tan(arg) / b if arg < 0.5 * np.pi else np.nan
 
 
 @njit(cache=True, inline="always")

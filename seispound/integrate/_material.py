@@ -305,8 +305,8 @@ def _bouc_wen_exact(z, eps, total, dy, n, beta, gamma):
     the same forms) and on with the other c.  The slopes are 1 - c |X|^n at both ends, and dz/d(total) is the
     slope at the end (an autonomous equation's solution moves with its end's rate).  Derived here, not read;
     verified against SciPy's ``solve_ivp`` (``tests/integrate/test_hysteretic_paths.py``).  eps, which only
-    degradation and pinching read, is advanced by the trapezoidal rule over each part.  A state the law
-    cannot leave in the move's direction (a slope <= 0 at the start, a tan past its pole) returns NaN: the
+    degradation and pinching read, is advanced by the trapezoidal rule over each part.  An unloading state
+    whose slope is not positive (it would move away from zero), or a tan past its pole, returns NaN: the
     caller's sub-increments take it.  Returns as ``bouc_wen_advance``.
     """
     s = 1.0 if total >= 0.0 else -1.0
@@ -314,7 +314,7 @@ def _bouc_wen_exact(z, eps, total, dy, n, beta, gamma):
     u = s * total / dy
     cn, cp = gamma - beta, gamma + beta  # c where X < 0 (unloading) and where X >= 0 (loading)
     p_start = _bw_slope(x, cn, cp, n)
-    if not p_start > 0.0 and u > 0.0:
+    if x < 0.0 and u > 0.0 and not p_start > 0.0:  # unloading away from zero: outside the law's range
         return np.nan, eps, 0.0, 0.0, 0.0, 0.0
     if x < 0.0 and u > 0.0:
         u0 = _bw_to_zero(x, cn, n)  # the move that brings X to 0

@@ -304,7 +304,7 @@ def _bouc_wen_exact(z, eps, total, dy, n, beta, gamma):
     sign(X), X(U) = X0 e^(-k U) - expm1(-k U) / k.  A move that starts at X0 < 0 runs to X = 0 first (U* from
     the same forms) and on with the other c.  The slopes are 1 - c |X|^n at both ends, and dz/d(total) is the
     slope at the end (an autonomous equation's solution moves with its end's rate).  Derived here, not read;
-    verified against SciPy's ``solve_ivp`` (``tests/integrate/test_hysteretic_paths.py``).  eps, which only
+    verified against SciPy's ``solve_ivp`` (``tests/verification/test_bouc_wen_closed_form.py``).  eps, which only
     degradation and pinching read, is advanced by the trapezoidal rule over each part.  An unloading state
     whose slope is not positive (it would move away from zero), or a tan past its pole, returns NaN: the
     caller's sub-increments take it.  Returns as ``bouc_wen_advance``.
@@ -314,9 +314,9 @@ def _bouc_wen_exact(z, eps, total, dy, n, beta, gamma):
     u = s * total / dy
     cn, cp = gamma - beta, gamma + beta  # c where X < 0 (unloading) and where X >= 0 (loading)
     p_start = _bw_slope(x, cn, cp, n)
-    if x < 0.0 and u > 0.0 and not p_start > 0.0:  # unloading away from zero: outside the law's range
-        return np.nan, eps, 0.0, 0.0, 0.0, 0.0
     if x < 0.0 and u > 0.0:
+        if not p_start > 0.0:  # unloading away from zero: outside the law's range
+            return np.nan, eps, 0.0, 0.0, 0.0, 0.0
         u0 = _bw_to_zero(x, cn, n)  # the move that brings X to 0
         if u0 < u:
             eps += 0.5 * x * u0

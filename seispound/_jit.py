@@ -29,13 +29,27 @@ import re
 from pathlib import Path
 
 from numba.core import config, types
+from importlib import import_module
+
 from numba.core.registry import CPUDispatcher
+
+# imported by name so that the cache's stamp (``package_stamp``) does not follow it: it runs around
+# compiled code, never inside it
+_first_use = import_module(__package__ + "._first_use")
 
 _ROOT = Path(__file__).resolve().parent
 
 
 class _Dispatcher(CPUDispatcher):
-    """``CPUDispatcher`` whose calls from compiled code are typed without literal values."""
+    """``CPUDispatcher`` whose calls from compiled code are typed without literal values, and whose first call
+    from Python may run its Python source while it compiles in the background (:mod:`seispound._first_use`)."""
+
+    def __call__(self, *args, **kws):
+        if _first_use.depth:  # below a Python form: Python all the way down
+            return self.py_func(*args, **kws)
+        if self.overloads:  # machine code in this process
+            return super().__call__(*args, **kws)
+        return _first_use.first_call(self, args, kws, super().__call__)
 
     def get_call_template(self, args, kws):
         args = tuple(types.unliteral(a) for a in args)

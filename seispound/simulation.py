@@ -446,13 +446,20 @@ def simulate(model, *, twin: bool = True, force: bool = False, tolerance: float 
     IntegrationError
         Newton did not converge, or the state became non-finite (the message names the time).
     """
+    from ._first_use import interpret_first_use
+
+    if tolerance is not None:  # a copy of the model with its analysis' tolerance replaced
+        model = replace(model, analysis=replace(model.analysis, tolerance=tolerance))
+    with interpret_first_use():  # a first use after installing runs as Python while numba compiles (_first_use)
+        return _simulate(model, twin, force)
+
+
+def _simulate(model, twin, force):
     from . import __version__
     from .plausibility import check_after_run, check_before_run, check_model, issue, to_json
     from .results import build_dataset
     from .results.schema import Layout
 
-    if tolerance is not None:  # a copy of the model with its analysis' tolerance replaced
-        model = replace(model, analysis=replace(model.analysis, tolerance=tolerance))
     kept, system, motions = _run_inputs(model)  # validated as the file reader validates, assembled once
     if "model_findings" not in kept:
         kept["model_findings"] = tuple(check_model(model))

@@ -6,12 +6,19 @@ integrator's drivers into numba's cache on first use, at the same moment as the 
 driver and the second the general one, each on a ten-step run of a bundled model, so that each
 finds the other's machine code in the cache when its tests reach it. A plain ``pytest`` (no
 workers) compiles on first use as before.
+
+The suite compiles on first use rather than running the integrator as Python while it compiles
+in the background (``seispound._first_use``; ``SEISPOUND_INTERPRET_SECONDS=0``): its tests call
+the integrator thousands of times.
 """
 
 from __future__ import annotations
 
 import os
 from pathlib import Path
+
+# the suite compiles as numba does; tests/test_first_use.py runs the first use as Python in child processes
+os.environ.setdefault("SEISPOUND_INTERPRET_SECONDS", "0")
 
 _WARM = {"gw0": "two_buildings.toml", "gw1": "yielding_pair.toml"}  # fast driver; general driver
 

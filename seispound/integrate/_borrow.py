@@ -22,10 +22,27 @@ from __future__ import annotations
 
 from numba import types
 from numba.core import cgutils
-from numba.extending import intrinsic
+from numba.core.extending import _Intrinsic
 
 
-@intrinsic
+class _WithPythonForm(_Intrinsic):
+    """``numba.extending.intrinsic`` whose call from Python runs its Python form (``_PYTHON``) instead of raising:
+    the kernel run as Python (:mod:`seispound._first_use`, ``NUMBA_DISABLE_JIT``) has no counts to skip."""
+
+    def __call__(self, *args, **kwargs):
+        return _PYTHON[self._name](*args, **kwargs)
+
+
+def _intrinsic(defn):
+    made = _WithPythonForm(defn.__name__, defn)
+    made._register()
+    return made
+
+
+_PYTHON = {"borrow": lambda arr: arr, "borrow_all": lambda group: group, "keep_alive": lambda owners: None}
+
+
+@_intrinsic
 def borrow(typingctx, arr):
     """The array ``arr`` without its reference count (same type, data, shape and strides)."""
     if not isinstance(arr, types.Array):
@@ -37,7 +54,7 @@ def borrow(typingctx, arr):
     return arr(arr), codegen
 
 
-@intrinsic
+@_intrinsic
 def keep_alive(typingctx, owners):
     """Do nothing with ``owners``: a use that keeps them (and what they own) alive up to here."""
 
@@ -68,7 +85,7 @@ def _borrowed(context, builder, typ, value):
     return value
 
 
-@intrinsic
+@_intrinsic
 def borrow_all(typingctx, group):
     """The tuple ``group`` (nested or not) with every array in it borrowed: a named group of the kernel's
     arrays (same types, data, shapes and strides; scalars as they are)."""

@@ -4,12 +4,11 @@ from __future__ import annotations
 
 import hashlib
 import math
-import os
-import sys
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from .. import _first_use
 from ..errors import InputError
 from .settings import Newmark
 from ..motion.spatial import ground_motion_integrals
@@ -141,32 +140,16 @@ def _exact_coefficients(basis, dt):
     return out
 
 
-# rough compile time of each driver on a first use (``python -m benchmarks.startup``): said before it starts
-COMPILE_SECONDS = {"fast": "1-3 min", "general": "2-4 min"}  # cold first runs, as the machine's load varies
-_ANNOUNCED: set = set()
+# rough compile time of each driver on a first use (``python -m benchmarks.startup``), said before it starts;
+# the cold first runs vary with the machine's load
+COMPILE_SECONDS = {"fast": "1-3 min", "general": "2-4 min"}
 
 
-def announce_compile(kernel, driver: str, stream=None) -> bool:
-    """Say on stderr, once per process, that ``kernel`` is about to be compiled (nothing cached for it yet).
-
-    numba compiles a kernel on its first call and caches the machine code next to the
-    package (``cache=True``); only a first use after installing (or after the code
-    changed) compiles, which takes tens of seconds.  Returns True if it said so.
-    """
-    # a kernel swapped for a plain function (benchmarks.attempts' counting copy) compiles nothing here;
-    # ``overloads`` is a dict (``signatures`` builds a list of every type, 50 us on each run)
-    if driver in _ANNOUNCED or getattr(kernel, "overloads", True):
-        return False
-    try:
-        cached = os.path.exists(kernel._cache._cache_file._index_path)
-    except AttributeError:  # a numba without this layout: say nothing rather than guess
-        cached = True
-    if cached:
-        return False
-    _ANNOUNCED.add(driver)
-    print(f"seispound: compiling the {driver} integrator (first use since installing; {COMPILE_SECONDS[driver]}, "
-          f"cached afterwards)", file=stream or sys.stderr, flush=True)
-    return True
+def _labelled(kernel, driver: str):
+    """``kernel``, named for the notices of its first use (:mod:`seispound._first_use`: it says when it compiles,
+    or runs as Python while it compiles in the background)."""
+    _first_use.label(kernel, f"the {driver} integrator", COMPILE_SECONDS[driver])
+    return kernel
 
 
 def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newmark | None = None,
@@ -316,9 +299,8 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
             out_a=hist[2 * nt * n:3 * nt * n].reshape(nt, n),
             out_f=hist[3 * nt * n:nt * (3 * n + ng)].reshape(nt, ng), out_e=hist[nt * (3 * n + ng):].reshape(nt, 6),
             umax=np.empty(n), fmax=np.empty(ng), **_catalogue(cap))
-        announce_compile(D.integrate_kernel, "fast")
         f = _writable
-        return (*D.integrate_kernel(
+        return (*_labelled(D.integrate_kernel, "fast")(
             tuple(f(system.mass, system.dof_a0, system.dof_motion, system.el_i, system.el_j, system.el_k,
                     system.el_a1)), int(system.bandwidth), tuple(f(system.u0, system.v0)),
             tuple(f(gap_i, gap_j, gap_lo, gap_hi, gap_size, gap_law, gap_par)), (*f(ag), moving, *f(ground)),
@@ -343,7 +325,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
                  rejected=int(st[O.S_REJECTED]), factorizations=int(st[O.S_FACTORIZATIONS]),
                  max_iterations=int(st[O.S_MAX_ITER]), free_flight_steps=int(st[O.S_FREE_FLIGHT]),
                  free_flight_blocks=int(st[O.S_BLOCKS]), waiting_steps=int(st[O.S_WAITING]),
-                 joins=int(st[O.S_JOINS]), dof_steps=int(st[O.S_DOF_STEPS]))
+                 joins=int(st[O.S_JOINS]), dof_steps=int(st[O.S_DOF_STEPS]), interpreted=out["interpreted"])
     return RawResult(time=np.arange(nt) * dt, displacement=out["out_u"], velocity=out["out_v"],
                      acceleration=out["out_a"], force=force, energy=out["out_e"],
                      peak_displacement=out["umax"], peak_force=peak_force, impacts=imp, stats=stats,
@@ -415,6 +397,7 @@ def _substeps(nm) -> int:
 def _run_growing(run, cap):
     """run(cap) -> (status, n_impacts, t_reached, outputs), rerun with 4x the catalogue while it overflows;
     returns (n_impacts, outputs)."""
+    calls = _first_use.interpreted_calls
     while True:
         status, n_imp, t_reached, out = run(cap)
         if status == O.IMPACT_CAPACITY:
@@ -423,6 +406,7 @@ def _run_growing(run, cap):
         if status != O.OK:
             raise IntegrationError(f"Newton-Raphson did not converge at t = {t_reached:.6g} s "
                                    f"(try a smaller analysis.dt or more contact_substeps)")
+        out["interpreted"] = _first_use.interpreted_calls > calls  # run as Python on a first use
         return n_imp, out
 
 
@@ -503,9 +487,8 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
         out = dict(out_u=np.zeros((nt, n)), out_v=np.zeros((nt, n)), out_a=np.zeros((nt, n)),
                    out_f=np.zeros((nt, nn)), out_e=np.zeros((nt, 6)), umax=np.zeros(n), fmax=np.zeros(nn),
                    **_catalogue(cap))
-        announce_compile(D.general_kernel, "general")
         f = _writable
-        return (*D.general_kernel(
+        return (*_labelled(D.general_kernel, "general")(
             tuple(row["linear"]), int(tab["p"]), row["numbering"], tuple(row["elements"]),
             np.zeros((nn, N_STATE)), (*f(ag), moving, *f(ground)), (u0, v0),
             (float(dt), int(nsteps), float(nm.beta), float(nm.gamma), (_substeps(nm), float(contact_step)),
@@ -530,7 +513,7 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     stats = dict(steps=int(st[O.S_STEPS]), iterations=int(st[O.S_ITERATIONS]),
                  rejected=int(st[O.S_REJECTED]), factorizations=int(st[O.S_FACTORIZATIONS]),
                  max_iterations=int(st[O.S_MAX_ITER]), free_flight_steps=int(st[O.S_FREE_FLIGHT]), free_flight_blocks=0,
-                 waiting_steps=0, joins=0, dof_steps=int(st[O.S_DOF_STEPS]))
+                 waiting_steps=0, joins=0, dof_steps=int(st[O.S_DOF_STEPS]), interpreted=out["interpreted"])
     return RawResult(time=np.arange(nt) * dt, displacement=out["out_u"], velocity=out["out_v"],
                      acceleration=out["out_a"], force=force, energy=out["out_e"],
                      peak_displacement=out["umax"], peak_force=peak_force, impacts=imp, stats=stats,

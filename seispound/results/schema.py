@@ -67,7 +67,8 @@ Attributes
     ``seispound.accuracy``), peak_error_estimate (the estimated relative error of the run's peaks,
     from the run at half its substeps: ``simulation.run_row``; NaN when the substeps were given or
     nothing pounded), tolerance_runs (integrations the tolerance took),
-    integrator_stats (JSON), building_ground_motion (JSON:
+    integrator_stats (JSON), integrator_run_as (the pounding run's integrator as numba's machine code, or
+    as its Python source on a first use: ``seispound._first_use``), building_ground_motion (JSON:
     each building with a motion of its own: record, delay, filter).
 """
 
@@ -348,6 +349,8 @@ def build_dataset(model, system, raw, raw_twin, ground_acc, record_provenance, v
         peak_error_estimate=float(raw.stats.get("peak_error_estimate", np.nan)),
         tolerance_runs=int(raw.stats.get("tolerance_runs", 1)),
         integrator_stats=json.dumps(raw.stats),
+        integrator_run_as=("Python: the integrator's source, run while numba compiled it (its first use)"
+                           if raw.stats.get("interpreted") else "numba machine code"),
         sign_convention="x positive from left building to right; penetration = u_left - u_right - gap",
     )
     return dataset(data_vars, coords, attrs)

@@ -27,7 +27,10 @@ def _lock(function):
         yield
 
 
-def main() -> int:
+def main(argv=None) -> int:
+    import argparse
+
+    argparse.ArgumentParser(description=__doc__.splitlines()[0], epilog="reads its work on stdin").parse_args(argv)
     with contextlib.suppress(OSError):
         os.nice(10)  # the run in the foreground keeps its core
     from ._first_use import _cached

@@ -1,8 +1,8 @@
 """Run cases of ``kernel_reference.cases`` through the time loop as Python (``NUMBA_DISABLE_JIT``).
 
 ``python -m tests.integrate._python_loop OUT.npz NAME:NSTEPS:DRIVER ...`` (a subprocess of
-``test_driver.py``: numba reads ``NUMBA_DISABLE_JIT`` once, at import).  Run so, the borrowed-array
-intrinsics, which have no Python form, become the identity; imported, the module changes nothing.
+``test_driver.py``: numba reads ``NUMBA_DISABLE_JIT`` once, at import).  The borrowed-array
+intrinsics run their Python forms (``_borrow._PYTHON``).
 """
 
 from __future__ import annotations
@@ -24,10 +24,6 @@ def run(name: str, nsteps: int, driver: str):
 
 
 def main(out: str, specs: list[str]) -> None:
-    import seispound.integrate._borrow as _borrow
-
-    _borrow.borrow = _borrow.borrow_all = lambda x: x
-    _borrow.keep_alive = lambda x: None
     saved = {}
     for spec in specs:
         name, nsteps, driver = spec.split(":")

@@ -38,6 +38,7 @@ import numpy as np
 
 #: seconds of interpretation a process may spend before a first call waits for its compile instead
 INTERPRET_SECONDS = 120.0
+ONE_CORE_SECONDS = 15.0  # on one core the compile, at low priority, waits for the Python run: keep it short
 TICK = 0.25  # s between the checks of a Python run: budget spent, or the machine code ready
 
 depth = 0  # > 0 while a Python form runs: every package function it calls runs as Python too
@@ -61,12 +62,20 @@ def label(function, what: str, how_long: str) -> None:
 
 
 def budget() -> float:
-    """Seconds of interpretation allowed per process: ``SEISPOUND_INTERPRET_SECONDS`` or :data:`INTERPRET_SECONDS`."""
+    """Seconds of interpretation allowed per process: ``SEISPOUND_INTERPRET_SECONDS``, else :data:`INTERPRET_SECONDS`
+    with two cores or more and :data:`ONE_CORE_SECONDS` with one (where the Python run and the compile share it)."""
     raw = os.environ.get("SEISPOUND_INTERPRET_SECONDS")
     try:
-        return INTERPRET_SECONDS if raw is None else max(float(raw), 0.0)
+        return max(float(raw), 0.0) if raw is not None else INTERPRET_SECONDS if _cores() > 1 else ONE_CORE_SECONDS
     except ValueError:
         return INTERPRET_SECONDS
+
+
+def _cores() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
 
 
 @contextlib.contextmanager
@@ -121,13 +130,17 @@ def _interpret(function, sig, args, kws, compiled):
     old = signal.signal(signal.SIGALRM, tick)
     start = time.perf_counter()
     depth += 1
+    failed = None
     try:
         signal.setitimer(signal.ITIMER_REAL, TICK, TICK)
-        out = function.py_func(*args, **kws)
+        with np.errstate(all="ignore"):  # as machine code: no warnings of numpy's
+            out = function.py_func(*args, **kws)
         interpreted_calls += 1
         return out
     except _OutOfTime:
         pass
+    except Exception as err:  # Python's semantics (math.sqrt(-1) raises) are not numba's: the machine code decides
+        failed = err
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0.0)
         signal.signal(signal.SIGALRM, old)
@@ -137,8 +150,9 @@ def _interpret(function, sig, args, kws, compiled):
     if job is not None and job.poll() == 0:
         _say(function, "{what} has compiled in the background: this run goes on as machine code", key="ready")
     else:
-        _say(function, "the run is longer than interpreting pays for: waiting for {what} to compile ({how_long})",
-             key="wait")
+        why = (f"its Python run stopped ({type(failed).__name__}: {failed})".replace("{", "{{").replace("}", "}}")
+               if failed is not None else "the run is longer than interpreting pays for")
+        _say(function, why + ": waiting for {what} to compile ({how_long})", key="wait")
         _flush()
         job = _compiled_by.get(_key(function, sig))
         if job is not None:

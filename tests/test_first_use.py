@@ -96,6 +96,19 @@ def test_a_python_run_stops_when_the_background_compile_is_done(tmp_path):
     assert float(run.stdout) <= 1e-15
 
 
+def test_a_python_run_that_raises_gives_way_to_the_machine_code(tmp_path):
+    run = _child("""
+        from tests._first_use_functions import root
+        F.label(root, "the root", "a few s")
+        with F.interpret_first_use():
+            r = root(-1.0)
+        assert F.interpreted_calls == 0 and len(root.overloads) == 1 and np.isnan(r), r
+        """, tmp_path, 40, SEISPOUND_INTERPRET_SECONDS="30")
+    assert run.returncode == 0, run.stderr
+    said = _lines(run.stderr)
+    assert len(said) == 2 and "its Python run stopped (ValueError: math domain error)" in said[1], said
+
+
 def test_outside_the_block_a_first_use_compiles_and_says_so_once(tmp_path):
     run = _child("""
         f(w2, c, 0.005, out)

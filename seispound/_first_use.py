@@ -41,7 +41,8 @@ INTERPRET_SECONDS = 120.0
 ONE_CORE_SECONDS = 15.0  # on one core the compile, at low priority, waits for the Python run: keep it short
 TICK = 0.25  # s between the checks of a Python run: budget spent, or the machine code ready
 
-depth = 0  # > 0 while a Python form runs: every package function it calls runs as Python too
+depth = 0  # > 0 while a Python run goes on: every package function it calls runs as Python too
+thread = None  # the thread (``threading.get_ident``) of that run: other threads keep their machine code
 interpreted_calls = 0  # calls run as Python in this process (``integrate`` reads it into the run's stats)
 _active = 0  # > 0 inside interpret_first_use()
 _spent = 0.0  # seconds spent interpreting in this process
@@ -113,7 +114,7 @@ def first_call(function, args, kws, compiled):
 
 
 def _interpret(function, sig, args, kws, compiled):
-    global depth, interpreted_calls, _spent
+    global depth, thread, interpreted_calls, _spent
     _queue(function, sig)
     if id(function) in _labels:  # a driver: its compile starts now; small helpers' at the block's end
         _flush()
@@ -129,6 +130,7 @@ def _interpret(function, sig, args, kws, compiled):
 
     old = signal.signal(signal.SIGALRM, tick)
     start = time.perf_counter()
+    thread = threading.get_ident()
     depth += 1
     failed = None
     try:

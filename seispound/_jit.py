@@ -26,6 +26,7 @@ from __future__ import annotations
 import functools
 import hashlib
 import re
+import threading
 from pathlib import Path
 
 from numba.core import config, types
@@ -45,7 +46,7 @@ class _Dispatcher(CPUDispatcher):
     from Python may run its Python source while it compiles in the background (:mod:`seispound._first_use`)."""
 
     def __call__(self, *args, **kws):
-        if _first_use.depth:  # below a Python form: Python all the way down
+        if _first_use.depth and _first_use.thread == threading.get_ident():  # below a Python run: Python throughout
             return self.py_func(*args, **kws)
         if self.overloads:  # machine code in this process
             return super().__call__(*args, **kws)

@@ -114,7 +114,6 @@ def first_call(function, args, kws, compiled):
 
 
 def _interpret(function, sig, args, kws, compiled):
-    global depth, thread, interpreted_calls, _spent
     _queue(function, sig)
     if id(function) in _labels:  # a driver: its compile starts now; small helpers' at the block's end
         _flush()
@@ -122,32 +121,9 @@ def _interpret(function, sig, args, kws, compiled):
     _say(function, "{what} is not compiled yet (first use since installing): this run goes through its Python "
                    "source, the same code, while it compiles in the background for the next runs ({how_long})")
     saved = _copies((args, kws))
-    end = time.perf_counter() + budget() - _spent
-
-    def tick(signum, frame):  # every TICK s: stop when the budget is spent or the machine code is ready
-        if time.perf_counter() >= end or (job is not None and job.poll() == 0):
-            raise _OutOfTime
-
-    old = signal.signal(signal.SIGALRM, tick)
-    start = time.perf_counter()
-    thread = threading.get_ident()
-    depth += 1
-    failed = None
-    try:
-        signal.setitimer(signal.ITIMER_REAL, TICK, TICK)
-        with np.errstate(all="ignore"):  # as machine code: no warnings of numpy's
-            out = function.py_func(*args, **kws)
-        interpreted_calls += 1
+    done, out, failed = _python_run(function, args, kws, job)
+    if done:
         return out
-    except _OutOfTime:
-        pass
-    except Exception as err:  # Python's semantics (math.sqrt(-1) raises) are not numba's: the machine code decides
-        failed = err
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0.0)
-        signal.signal(signal.SIGALRM, old)
-        depth -= 1
-        _spent += time.perf_counter() - start
     _restore((args, kws), saved)  # the arguments as they came, for the compiled call
     if job is not None and job.poll() == 0:
         _say(function, "{what} has compiled in the background: this run goes on as machine code", key="ready")
@@ -160,6 +136,40 @@ def _interpret(function, sig, args, kws, compiled):
         if job is not None:
             job.wait()
     return compiled(*args, **kws)
+
+
+def _python_run(function, args, kws, job):
+    """Run ``function``'s Python source under a timer that stops it (every :data:`TICK` s) once the budget is
+    spent or ``job`` has compiled it: (True, its result, None), or (False, None, the error it raised or None)."""
+    global depth, thread, interpreted_calls, _spent
+    end = time.perf_counter() + budget() - _spent
+
+    live = [True]  # off first thing in ``finally``: a tick that comes as the run ends must not raise there
+
+    def tick(signum, frame):
+        if live[0] and (time.perf_counter() >= end or (job is not None and job.poll() == 0)):
+            raise _OutOfTime
+
+    old = signal.signal(signal.SIGALRM, tick)
+    start = time.perf_counter()
+    thread = threading.get_ident()
+    depth += 1
+    try:
+        signal.setitimer(signal.ITIMER_REAL, TICK, TICK)
+        with np.errstate(all="ignore"):  # as machine code: no warnings of numpy's
+            out = function.py_func(*args, **kws)
+        interpreted_calls += 1
+        return True, out, None
+    except _OutOfTime:
+        return False, None, None
+    except Exception as err:  # Python's semantics (math.sqrt(-1) raises) are not numba's: the machine code decides
+        return False, None, err
+    finally:
+        live[0] = False
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        signal.signal(signal.SIGALRM, old)
+        depth -= 1
+        _spent += time.perf_counter() - start
 
 
 def _may_interpret() -> bool:

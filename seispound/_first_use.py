@@ -245,41 +245,25 @@ def _flush():
     return proc
 
 
-def _copies(value):
-    """Copies of every array in ``value`` (nested tuples, lists and dicts), in the order :func:`_restore` reads them."""
-    out = []
+def _arrays(value):
+    """Every numpy array in ``value`` (nested tuples, lists and dicts), depth first."""
+    if isinstance(value, np.ndarray):
+        yield value
+    elif isinstance(value, (tuple, list, dict)):
+        for item in value.values() if isinstance(value, dict) else value:
+            yield from _arrays(item)
 
-    def walk(x):
-        if isinstance(x, np.ndarray):
-            out.append(x.copy())
-        elif isinstance(x, (tuple, list)):
-            for y in x:
-                walk(y)
-        elif isinstance(x, dict):
-            for y in x.values():
-                walk(y)
 
-    walk(value)
-    return out
+def _copies(value) -> list:
+    """Copies of every array in ``value``, in the order :func:`_restore` writes them back."""
+    return [a.copy() for a in _arrays(value)]
 
 
 def _restore(value, copies) -> None:
     """Write :func:`_copies`' arrays back into the arrays of ``value``, in place."""
-    it = iter(copies)
-
-    def walk(x):
-        if isinstance(x, np.ndarray):
-            src = next(it)
-            if x.flags.writeable:
-                x[...] = src
-        elif isinstance(x, (tuple, list)):
-            for y in x:
-                walk(y)
-        elif isinstance(x, dict):
-            for y in x.values():
-                walk(y)
-
-    walk(value)
+    for a, saved in zip(_arrays(value), copies):
+        if a.flags.writeable:
+            a[...] = saved
 
 
 def _say(function, template: str, key: str = "") -> None:

@@ -67,32 +67,21 @@ def test_a_first_use_runs_as_python_and_the_next_process_finds_it_compiled(tmp_p
     assert float(second.stdout) <= 1e-15
 
 
-def test_a_python_run_longer_than_the_budget_waits_for_the_compile(tmp_path):
-    # 400 000 modes take about 1.5 s as Python; the budget is 0.2 s
-    run = _child("""
-        with F.interpret_first_use():
-            f(w2, c, 0.005, out)
-        assert F.interpreted_calls == 0 and len(f.overloads) == 1, "stopped, then run compiled"
-        print(np.abs(out[:, :m] - ref).max() / np.abs(ref).max())
-        """, tmp_path, 400_000, SEISPOUND_INTERPRET_SECONDS="0.2")
-    assert run.returncode == 0, run.stderr
-    said = _lines(run.stderr)
-    assert len(said) == 2 and "waiting for the exact coefficients to compile" in said[1], said
-    # the output array was put back and written by the compiled call: equal to the Python form's (measured 0)
-    assert float(run.stdout) <= 1e-15
-
-
-def test_a_python_run_stops_when_the_background_compile_is_done(tmp_path):
-    # 5 000 000 modes take about 8 s as Python; starting a process and compiling the function about 2.5 s
+@pytest.mark.parametrize("n, budget, then", [
+    (400_000, "0.2", "waiting for the exact coefficients to compile"),  # 1.5 s of Python, a budget of 0.2 s
+    (5_000_000, "300", "the exact coefficients has compiled in the background"),  # 8 s of Python, 2.5 s to compile
+])
+def test_a_python_run_is_stopped_by_its_timer_and_goes_on_as_machine_code(tmp_path, n, budget, then):
     run = _child("""
         with F.interpret_first_use():
             f(w2, c, 0.005, out)
         assert F.interpreted_calls == 0 and sum(f.stats.cache_hits.values()) == 1, "stopped, loaded from the cache"
         print(np.abs(out[:, :m] - ref).max() / np.abs(ref).max())
-        """, tmp_path, 5_000_000, SEISPOUND_INTERPRET_SECONDS="300")
+        """, tmp_path, n, SEISPOUND_INTERPRET_SECONDS=budget)
     assert run.returncode == 0, run.stderr
     said = _lines(run.stderr)
-    assert len(said) == 2 and "has compiled in the background" in said[1], said
+    assert len(said) == 2 and then in said[1], said
+    # the output array was put back and written by the compiled call: equal to the Python form's (measured 0)
     assert float(run.stdout) <= 1e-15
 
 

@@ -258,7 +258,7 @@ def issue(findings, *, force: bool, file=None) -> None:
             raise InputError(f.message, file=file, key=f.key)
     for f in findings:
         if not f.advisory:
-            warnings.warn(f.message, PlausibilityWarning, stacklevel=3)
+            warnings.warn(f.message, PlausibilityWarning, stacklevel=4)  # the caller of simulate (via _simulate)
 
 
 def to_json(findings) -> str:

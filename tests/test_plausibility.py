@@ -177,3 +177,15 @@ def test_study_refuses_an_implausible_record_before_any_run(tmp_path, capsys):
     assert cli.main(["study", str(study), "-o", str(out), "--scheduler", "serial", "--force"]) == 0
     assert "warning: record elcentro_180: the record's PGA is 275.5 g" in capsys.readouterr().err
     assert out.exists()
+
+
+def test_a_warning_names_the_line_that_called_simulate():
+    from dataclasses import replace
+
+    from tests._models import REPO
+
+    model = sp.load_model(REPO / "models" / "two_buildings.toml")
+    model = replace(model, analysis=replace(model.analysis, dt=0.02))  # 8.7 steps per period of a mode needed
+    with pytest.warns(PlausibilityWarning) as caught:
+        sp.simulate(model, twin=False)
+    assert {w.filename for w in caught} == {__file__}

@@ -27,11 +27,10 @@ import functools
 import hashlib
 import re
 import threading
+from importlib import import_module
 from pathlib import Path
 
 from numba.core import config, types
-from importlib import import_module
-
 from numba.core.registry import CPUDispatcher
 
 # imported by name so that the cache's stamp (``package_stamp``) does not follow it: it runs around

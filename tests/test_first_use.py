@@ -98,6 +98,32 @@ def test_a_python_run_that_raises_gives_way_to_the_machine_code(tmp_path):
     assert len(said) == 2 and "its Python run stopped (ValueError: math domain error)" in said[1], said
 
 
+def test_other_threads_keep_their_machine_code_during_a_python_run(tmp_path):
+    # root(-1) is NaN as machine code and raises as Python: a thread calling it while the main thread runs Python
+    run = _child("""
+        import threading
+        from tests._first_use_functions import root
+        root(4.0)  # compiled, outside the block
+        seen, stop = [], threading.Event()
+
+        def other():
+            while not stop.is_set():
+                try:
+                    seen.append(np.isnan(root(-1.0)))
+                except ValueError:
+                    seen.append("python")
+
+        worker = threading.Thread(target=other)
+        worker.start()
+        with F.interpret_first_use():
+            f(w2, c, 0.005, out)  # about 0.4 s of Python
+        stop.set()
+        worker.join()
+        assert F.interpreted_calls == 1 and len(seen) > 10 and all(x is np.True_ for x in seen), seen[:5]
+        """, tmp_path, 100_000, SEISPOUND_INTERPRET_SECONDS="30", SEISPOUND_COMPILE_AHEAD="0")
+    assert run.returncode == 0, run.stderr
+
+
 def test_outside_the_block_a_first_use_compiles_and_says_so_once(tmp_path):
     run = _child("""
         f(w2, c, 0.005, out)

@@ -33,6 +33,7 @@ import sys
 import threading
 import time
 from importlib import import_module
+from pathlib import Path
 
 import numpy as np
 
@@ -103,14 +104,23 @@ def first_call(function, args, kws, compiled):
     if sig is None or sig in function.overloads or _cached(function, sig):
         return compiled(*args, **kws)
     if not _may_interpret():
-        job = _compiled_by.get(_key(function, sig))
-        if job is not None and job.poll() is None:  # compiling in the background already: not twice
-            _say(function, "waiting for {what} to compile in the background ({how_long})", key="wait")
-            job.wait()
-        else:
-            _say(function, "compiling {what} (first use since installing; {how_long}, cached afterwards)")
-        return compiled(*args, **kws)
+        return _machine_code(function, sig, args, kws, compiled)
     return _interpret(function, sig, args, kws, compiled)
+
+
+def _machine_code(function, sig, args, kws, compiled, why=""):
+    """``compiled(*args, **kws)`` after waiting for ``function``'s compile in the background if one runs (not the
+    same compile twice); says what it does, each notice prefixed by ``why``."""
+    job = _compiled_by.get(_key(function, sig))
+    if job is not None and job.poll() is None:
+        _say(function, why + "waiting for {what} to compile in the background ({how_long})", key="wait")
+        job.wait()
+    if job is None:
+        _say(function, why + "compiling {what} (first use since installing; {how_long}, cached afterwards)")
+    elif job.returncode:
+        _say(function, _literal(f"the compile in the background failed (exit {job.returncode}; its messages: "
+                                f"{job.log}): ") + "compiling {what} here ({how_long})", key="failed")
+    return compiled(*args, **kws)
 
 
 def _interpret(function, sig, args, kws, compiled):
@@ -127,15 +137,11 @@ def _interpret(function, sig, args, kws, compiled):
     _restore((args, kws), saved)  # the arguments as they came, for the compiled call
     if job is not None and job.poll() == 0:
         _say(function, "{what} has compiled in the background: this run goes on as machine code", key="ready")
-    else:
-        why = (f"its Python run stopped ({type(failed).__name__}: {failed})".replace("{", "{{").replace("}", "}}")
-               if failed is not None else "the run is longer than interpreting pays for")
-        _say(function, why + ": waiting for {what} to compile ({how_long})", key="wait")
-        _flush()
-        job = _compiled_by.get(_key(function, sig))
-        if job is not None:
-            job.wait()
-    return compiled(*args, **kws)
+        return compiled(*args, **kws)
+    why = (_literal(f"its Python run stopped ({type(failed).__name__}: {failed}): ") if failed is not None
+           else "the run is longer than interpreting pays for: ")
+    _flush()  # the helpers queued before it, if the background compile has not started
+    return _machine_code(function, sig, args, kws, compiled, why)
 
 
 def _python_run(function, args, kws, job):
@@ -234,8 +240,13 @@ def _flush():
     if not jobs or os.environ.get("SEISPOUND_COMPILE_AHEAD", "1") == "0":
         return None
     try:
-        proc = subprocess.Popen([sys.executable, "-m", "seispound._compile_ahead"], stdin=subprocess.PIPE,
-                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+        module, name, _ = jobs[-1]
+        log = Path(getattr(import_module(module), name)._cache._impl.locator.get_cache_path(), "seispound-compile.log")
+        log.parent.mkdir(parents=True, exist_ok=True)
+        with open(log, "w") as err:
+            proc = subprocess.Popen([sys.executable, "-m", "seispound._compile_ahead"], stdin=subprocess.PIPE,
+                                    stdout=subprocess.DEVNULL, stderr=err, start_new_session=True)
+        proc.log = str(log)
         proc.stdin.write(pickle.dumps(jobs))
         proc.stdin.close()
     except Exception:  # the run goes on as Python; the next one compiles
@@ -264,6 +275,11 @@ def _restore(value, copies) -> None:
     for a, saved in zip(_arrays(value), copies):
         if a.flags.writeable:
             a[...] = saved
+
+
+def _literal(text: str) -> str:
+    """``text`` as a part of a :func:`_say` template (its braces doubled)."""
+    return text.replace("{", "{{").replace("}", "}}")
 
 
 def _say(function, template: str, key: str = "") -> None:

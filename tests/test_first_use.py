@@ -98,6 +98,20 @@ def test_a_python_run_that_raises_gives_way_to_the_machine_code(tmp_path):
     assert len(said) == 2 and "its Python run stopped (ValueError: math domain error)" in said[1], said
 
 
+def test_a_failed_background_compile_is_reported_and_the_run_compiles_here(tmp_path):
+    run = _child("""
+        sys.executable = "/bin/false"  # the background process exits at once with status 1
+        with F.interpret_first_use():
+            f(w2, c, 0.005, out)
+        assert F.interpreted_calls == 0 and len(f.overloads) == 1
+        """, tmp_path, 400_000, SEISPOUND_INTERPRET_SECONDS="0.2")
+    assert run.returncode == 0, run.stderr
+    said = _lines(run.stderr)
+    assert len(said) == 2 and said[1].startswith("seispound: the compile in the background failed (exit 1; its "
+                                                 "messages: "), said
+    assert said[1].endswith("seispound-compile.log): compiling the exact coefficients here (a few s)"), said
+
+
 def test_other_threads_keep_their_machine_code_during_a_python_run(tmp_path):
     # root(-1) is NaN as machine code and raises as Python: a thread calling it while the main thread runs Python
     run = _child("""

@@ -20,9 +20,9 @@ from importlib import import_module
 def _lock(function):
     import fcntl
 
-    locator = function._cache._impl.locator
-    locator.ensure_cache_path()
-    with open(os.path.join(locator.get_cache_path(), "seispound-compile.lock"), "a") as f:
+    from ._first_use import cache_dir
+
+    with open(cache_dir(function) / "seispound-compile.lock", "a") as f:
         fcntl.flock(f, fcntl.LOCK_EX)
         yield
 

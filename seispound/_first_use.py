@@ -218,6 +218,13 @@ def _address(function):
     return None
 
 
+def cache_dir(function) -> Path:
+    """numba's cache directory for ``function`` (made if absent): the background compile's lock and log go there."""
+    locator = function._cache._impl.locator
+    locator.ensure_cache_path()
+    return Path(locator.get_cache_path())
+
+
 def _key(function, sig):
     """(module, name, signature) of ``function``: what the background compile is given, or None."""
     where = _address(function)
@@ -241,8 +248,7 @@ def _flush():
         return None
     try:
         module, name, _ = jobs[-1]
-        log = Path(getattr(import_module(module), name)._cache._impl.locator.get_cache_path(), "seispound-compile.log")
-        log.parent.mkdir(parents=True, exist_ok=True)
+        log = cache_dir(getattr(import_module(module), name)) / "seispound-compile.log"
         with open(log, "w") as err:
             proc = subprocess.Popen([sys.executable, "-m", "seispound._compile_ahead"], stdin=subprocess.PIPE,
                                     stdout=subprocess.DEVNULL, stderr=err, start_new_session=True)

@@ -32,7 +32,7 @@ import os
 import tomllib
 import sys
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -510,6 +510,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     mismatch = locate({c.id: sims_recal[0][c.id] - first.recording.data[c.id] for c in chans},
                       {c.id: first.recording.data[c.id] for c in chans}, first.recording.dt,
                       impact_times=recal_obs.impact_times[0])
+    context = replace(context, band_top_hz=_band_top(mismatch, first.recording.dt))
     # 4. hypotheses: each added to the base model as given (its nominal parameters) and fitted alone, in
     # parallel processes; each fit from its null point (the base model itself) and from starts across its bounds
     tried = {}
@@ -769,7 +770,8 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
         alternative = form[0] in ALTERNATIVES
         uncapped = alternative and bool(alt)
         budget = POLISH * (len(both) + 1) if uncapped else min(POLISH * (len(both) + 1), max_evaluations)
-        return _polish, (texts, specs, both, *common, budget, alternative, with_anchor, explained)
+        refine = CANDIDATES_ALL[form[0]].refiner(form[1])
+        return _polish, (texts, specs, both, *common, budget, alternative, with_anchor, explained, refine, context)
     try:
         for form in forms:
             run(("starts", form), _starts, *form, data, alt, *common, context)
@@ -927,6 +929,14 @@ def _context(chans, trial_list, input_ids=()):
     return Context(base_records=out)
 
 
+def _band_top(mismatch, dt, share=0.05) -> float:
+    """The highest frequency [Hz] at which the residual stands above the sensor noise, over the channels that
+    hold at least ``share`` of it (``locate``'s bands); the recording's Nyquist frequency where no channel's
+    band is known."""
+    tops = [m["band_hz"][1] for m in mismatch if m["residual_share"] >= share and m["band_hz"][1] > 0.0]
+    return float(max(tops)) if tops else 0.5 / dt
+
+
 def _input_ids(model) -> set:
     """The trace id of the model's own record, where its file carries one (miniSEED, SAC: not an AT2 file)."""
     gm = model.ground_motion
@@ -1070,7 +1080,7 @@ def _best_candidates(aug, specs, base, chans, trial_list, bases=({},), anchors=(
 
 
 def _polish(texts, specs, both, base, chans, trial_list, max_evaluations, every_base=False, anchored=False,
-            enough=None):
+            enough=None, refine=None, context=None):
     """The screened fits (model texts: a form's best short fit from the nominal base values and from the
     recalibrated ones) each fitted on to convergence in their own parameters (``specs``), then the better
     together with the ones already fitted (``both`` holds all), from there: each stage has its own budget
@@ -1083,7 +1093,12 @@ def _polish(texts, specs, both, base, chans, trial_list, max_evaluations, every_
     not tell the basins apart either (development case 4104-006, pinched Clough storeys: the joint stage
     from the best own fit ended at 0.43, from the anchor's at 0.25).  A joint fit that cannot run leaves
     the first stage's.  Once a stage fits to ``enough`` (the NE at which the data are explained, or None) the
-    stages that would start from other fits are left out: they look for a basin that the data no longer need."""
+    stages that would start from other fits are left out: they look for a basin that the data no longer need.
+    With ``refine`` (the form's ``Hypothesis.refine``, given ``context``), each screened fit is polished in its
+    own parameters twice, made finer first (rod floors with the segments the recording's band asks), then as
+    screened, and the joint stage starts from the better: a form is screened where its simulations are cheap,
+    and polished fine where the band asks it.  The coarse polish stays beside the fine one because the data's
+    floors need not be continua (docs/diagnose.md, "Rods as fine as the band")."""
     import tomllib
     from dataclasses import replace
 
@@ -1100,11 +1115,15 @@ def _polish(texts, specs, both, base, chans, trial_list, max_evaluations, every_
     def explains(f):
         return enough is not None and f.ne_mean_after <= enough
 
+    starts = []  # (table, whether it is the anchored start's), each screened fit made finer first where it can be
     for k, text in enumerate(texts):
-        start = tomllib.loads(text)
+        table = tomllib.loads(text)
+        finer = refine(copy.deepcopy(table), context) if refine is not None else None
+        starts += [(t, anchored and k == len(texts) - 1) for t in ([finer] if finer is not None else []) + [table]]
+    for start, is_anchor in starts:
         try:
             owns.append(fit(start, parse_fit(specs, start)))
-            last = owns[-1] if anchored and k == len(texts) - 1 else last
+            last = owns[-1] if is_anchor else last
         except Exception as exc:  # noqa: BLE001 (a stage that cannot run leaves the screened fit standing)
             failed.append(f"{type(exc).__name__}: {exc}")
         if owns and explains(owns[-1]):

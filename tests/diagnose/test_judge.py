@@ -156,7 +156,8 @@ def test_the_alternatives_budget_is_uncapped_in_the_first_round_only(monkeypatch
             return "one form each"
         return {}, [f"x.{name}.{j}=1:2" for j in range(20)], [{"form": name}], []
 
-    def polish(texts, specs, both, base, chans, trial_list, budget, every_base=False, anchored=False, enough=None):
+    def polish(texts, specs, both, base, chans, trial_list, budget, every_base=False, anchored=False, enough=None,
+               refine=None, context=None):
         budgets[specs[0].split(".")[1]] = budget
         return _fit(0.01)
 

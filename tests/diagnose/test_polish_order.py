@@ -123,7 +123,7 @@ def test_fit_all_leaves_out_the_polishes_the_data_no_longer_need(monkeypatch, ex
     calls = []
 
     def polish(texts, specs, both, base, chans, trial_list, budget, every_base=False, anchored=False,
-               enough=None):
+               enough=None, refine=None, context=None):
         form = eval(texts[0])  # noqa: S307 (the test's own repr)
         calls.append(form)
         return _fit(polished[form])
@@ -195,7 +195,7 @@ MARK = "SEISPOUND_TEST_POLISH_STARTED"  # environment variable: the file the unn
 
 
 def _pool_polish(texts, specs, both, base, chans, trial_list, budget, every_base=False, anchored=False,
-                 enough=None):
+                 enough=None, refine=None, context=None):
     import time
 
     form = eval(texts[0])  # noqa: S307 (the test's own repr)
@@ -212,7 +212,7 @@ def test_a_search_in_worker_processes_does_not_wait_for_a_polish_it_does_not_nee
     monkeypatch.setattr(api, "_starts", _stub_starts)
     monkeypatch.setattr(api, "_short", _stub_short)
     monkeypatch.setattr(api, "_polish", _pool_polish)
-    monkeypatch.setattr(api, "CANDIDATES_ALL", {P: type("H", (), {"variants": 2})()})
+    monkeypatch.setattr(api, "CANDIDATES_ALL", {P: type("H", (), {"variants": 2, "refiner": lambda self, k: None})()})
     monkeypatch.setenv(MARK, str(tmp_path / "started"))  # reaches the workers however they are started
     t0 = time.perf_counter()
     out = dict(api._fit_all([P], {}, None, [], [], 400, 2, ne_base=0.64, n_eff=1000, explained=AT))

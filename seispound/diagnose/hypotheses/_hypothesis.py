@@ -32,6 +32,11 @@ class Hypothesis:
         ``reduce(fitted_table)``: the base model's own values nearest a fitted form, as candidates
         ``[{PATH: value}, ...]`` for the base parameters that the form replaced (a constant e for an e(v)):
         where the base model is refitted from the physics's fit (``api._base_from_physics``).
+    refine : tuple, optional
+        Per form, None or ``refine(fitted_table, context)``: a finer model of the same physics built from a
+        polished fit (rod floors with more segments, where the recording's band holds their higher modes),
+        edited in place, or None when the fit is fine enough.  ``diagnose`` polishes it once more from the
+        fitted values and keeps it only if it fits better (``api._polish``).
     """
 
     name: str
@@ -41,10 +46,15 @@ class Hypothesis:
     why_not: Callable | None = None
     alternative: bool = False
     reduce: Callable | None = None
+    refine: tuple = ()
 
     def applies(self, data: dict) -> str | None:
         """Why this physics cannot apply to the model file's table ``data``, or None when it can."""
         return self.why_not(data) if self.why_not else None
+
+    def refiner(self, variant: int) -> Callable | None:
+        """Form ``variant``'s ``refine`` (None where it has none)."""
+        return self.refine[variant] if variant < len(self.refine) else None
 
     @property
     def variants(self) -> int:
@@ -63,16 +73,21 @@ class Hypothesis:
 @dataclass(frozen=True)
 class Context:
     """What a recording holds beside the channels a fit compares: the accelerations recorded at buildings'
-    bases, which drive no channel of the model but may drive the building.
+    bases, which drive no channel of the model but may drive the building, and the band its residual occupies.
 
     Parameters
     ----------
     base_records : dict
         building name -> {"file": absolute path of the file holding the trace, "trace": its id,
         "scale": the channel map's factor to m/s^2}.  Empty for several trials (each has its own).
+    band_top_hz : float or None
+        The highest frequency [Hz] at which the recalibrated base model's residual stands above the sensor
+        noise (``locate``: the top of the bands of the channels that hold the residual); None before it is
+        located.
     """
 
     base_records: dict = field(default_factory=dict)
+    band_top_hz: float | None = None
 
 
 def reads_recording(form: Callable) -> Callable:

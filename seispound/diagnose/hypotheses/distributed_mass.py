@@ -2,7 +2,15 @@
 
 from __future__ import annotations
 
+import math
+
 from ._hypothesis import Hypothesis, needs_gaps
+
+# the rod form's segments: SEGMENTS to fit (cheap), refined up to MAX_SEGMENTS where the recording's band holds
+# higher axial modes, so that each lies within SEGMENT_ERROR of k times the first (``segments_for``)
+SEGMENTS = 4
+MAX_SEGMENTS = 8
+SEGMENT_ERROR = 0.025
 
 
 def _distributed_mass(d):
@@ -12,12 +20,58 @@ def _distributed_mass(d):
     # ratio of the first axial mode one value for the row
     specs, null = ["building.*.floor_model.axial_damping=0.002:0.3"], {"building.*.floor_model.axial_damping": 0.02}
     for b in d["building"]:
-        b["floor_model"] = {"kind": "rod", "segments": 4, "length": 20.0, "axial_stiffness": 1e10,
+        b["floor_model"] = {"kind": "rod", "segments": SEGMENTS, "length": 20.0, "axial_stiffness": 1e10,
                             "axial_damping": 0.02, "centre_of_mass": 0.5}
         rod = f"building.{b['name']}.floor_model"
         specs += [f"{rod}.axial_stiffness=1e8:1e13", f"{rod}.centre_of_mass=0.34:0.66"]
         null.update({f"{rod}.axial_stiffness": 1e13, f"{rod}.centre_of_mass": 0.5})
     return specs, null
+
+
+def segments_for(band_top_hz: float, first_axial_hz: float) -> int:
+    """The segments a rod floor needs so that each axial mode below ``band_top_hz`` [Hz] lies within
+    SEGMENT_ERROR of k times the first (``first_axial_hz`` [Hz]), as a continuous rod's modes do.
+
+    A uniform rod of N lumped segments has its k-th free-free mode at omega_k = 2 (N c / L) sin(k pi / (2 N))
+    (the lumped chain's dispersion relation; derived, and checked against the assembled chain's eigenvalues in
+    ``tests/diagnose/test_rod_refine.py``), so with the first fitted, mode k stands at
+    sin(k x) / (k sin x) of k f1, x = pi / (2 N): two modes in the band need 8 segments, three 12.  At least
+    SEGMENTS (one mode in the band: the fit sets f1 itself), at most MAX_SEGMENTS (each segment adds a DOF per
+    floor to every simulation of a fit)."""
+    k = int(math.floor(band_top_hz / first_axial_hz + 1e-9))
+    for n in range(SEGMENTS, MAX_SEGMENTS):
+        x = math.pi / (2.0 * n)
+        if k <= 1 or math.sin(k * x) / (k * math.sin(x)) >= 1.0 - SEGMENT_ERROR:
+            return n
+    return MAX_SEGMENTS
+
+
+def _finer_rods(d, context):
+    """The fitted rod floors with the segments the recording's band asks (``segments_for``, at the lowest
+    first axial frequency of any floor of the row), or None when the segments they have suffice.  EA, the
+    centre of mass and the damping stay as fitted (the first axial frequency then moves by the
+    discretisation's share, 2 % from 4 segments to 8; the polish that follows refits it)."""
+    from ...floor.rod import RodFloor
+
+    if context is None or not context.band_top_hz:
+        return None
+    keys = ("segments", "length", "axial_stiffness", "centre_of_mass")
+    f1 = math.inf
+    for b in d["building"]:
+        rod = b.get("floor_model") or {}
+        masses = b["floor_masses"] if isinstance(b["floor_masses"], list) else [b["floor_masses"]]
+        if rod.get("kind") == "rod" and "attachment" not in rod:
+            floor = RodFloor(**{k: rod[k] for k in keys if k in rod})
+            f1 = min(f1, floor.first_axial_omega(max(masses)) / (2.0 * math.pi))
+    if not math.isfinite(f1):
+        return None
+    n = segments_for(context.band_top_hz, f1)
+    if all(n <= (b.get("floor_model") or {}).get("segments", n) for b in d["building"]):
+        return None
+    for b in d["building"]:
+        if (b.get("floor_model") or {}).get("kind") == "rod":
+            b["floor_model"]["segments"] = n
+    return d
 
 
 def _attached(d):
@@ -48,4 +102,5 @@ def _attached(d):
 HYPOTHESIS = Hypothesis(
     "distributed-mass", "the floors' distributed mass: axial waves and internal vibration of the floors at impacts",
     "high-frequency residual on floor channels that starts at each impact",
-    forms=(_distributed_mass, _attached), why_not=needs_gaps("to set the floors' axial waves ringing"))
+    forms=(_distributed_mass, _attached), why_not=needs_gaps("to set the floors' axial waves ringing"),
+    refine=(_finer_rods, None))

@@ -34,9 +34,9 @@ class Hypothesis:
         where the base model is refitted from the physics's fit (``api._base_from_physics``).
     refine : tuple, optional
         Per form, None or ``refine(fitted_table, context)``: a finer model of the same physics built from a
-        polished fit (rod floors with more segments, where the recording's band holds their higher modes),
-        edited in place, or None when the fit is fine enough.  ``diagnose`` polishes it once more from the
-        fitted values and keeps it only if it fits better (``api._polish``).
+        screened fit (rod floors with more segments, where the recording's band holds their higher modes),
+        edited in place, or None when the fit is fine enough.  ``diagnose`` polishes the finer model and the
+        screened one and goes on from the better (``api._polish``).
     """
 
     name: str

@@ -253,10 +253,14 @@ def _flush():
             proc = subprocess.Popen([sys.executable, "-m", "seispound._compile_ahead"], stdin=subprocess.PIPE,
                                     stdout=subprocess.DEVNULL, stderr=err, start_new_session=True)
         proc.log = str(log)
-        proc.stdin.write(pickle.dumps(jobs))
-        proc.stdin.close()
     except Exception:  # the run goes on as Python; the next one compiles
         return None
+    try:
+        proc.stdin.write(pickle.dumps(jobs))
+        proc.stdin.close()
+    except OSError:  # it ended before reading its work (a broken interpreter): its exit status and log say why
+        with contextlib.suppress(OSError):
+            proc.stdin.close()
     for job in jobs:
         _compiled_by[job] = proc
     return proc

@@ -98,13 +98,26 @@ def test_a_python_run_that_raises_gives_way_to_the_machine_code(tmp_path):
     assert len(said) == 2 and "its Python run stopped (ValueError: math domain error)" in said[1], said
 
 
-def test_a_failed_background_compile_is_reported_and_the_run_compiles_here(tmp_path):
-    run = _child("""
+DEAD_BEFORE_ITS_WORK = """
+    import subprocess
+
+    class Dead(subprocess.Popen):  # it has ended before its work is written to it: the write finds a broken pipe
+        def __init__(self, *a, **k):
+            super().__init__(*a, **k)
+            self.wait()
+
+    subprocess.Popen = Dead
+"""
+
+
+@pytest.mark.parametrize("when", ["as it happens", "ended before its work is written"])
+def test_a_failed_background_compile_is_reported_and_the_run_compiles_here(tmp_path, when):
+    run = _child(textwrap.dedent(DEAD_BEFORE_ITS_WORK if when.startswith("ended") else "") + textwrap.dedent("""
         sys.executable = "/bin/false"  # the background process exits at once with status 1
         with F.interpret_first_use():
             f(w2, c, 0.005, out)
         assert F.interpreted_calls == 0 and len(f.overloads) == 1
-        """, tmp_path, 400_000, SEISPOUND_INTERPRET_SECONDS="0.2")
+        """), tmp_path, 400_000, SEISPOUND_INTERPRET_SECONDS="0.2")
     assert run.returncode == 0, run.stderr
     said = _lines(run.stderr)
     assert len(said) == 2 and said[1].startswith("seispound: the compile in the background failed (exit 1; its "

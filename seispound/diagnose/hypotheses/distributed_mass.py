@@ -51,26 +51,21 @@ def _finer_rods(d, context):
     first axial frequency of any floor of the row), or None when the segments they have suffice.  EA, the
     centre of mass and the damping stay as fitted (the first axial frequency then moves by the
     discretisation's share, 2 % from 4 segments to 8; the polish that follows refits it)."""
-    from ...floor.rod import RodFloor
+    from ..quantities import _first_axial
 
     if context is None or not context.band_top_hz:
         return None
-    keys = ("segments", "length", "axial_stiffness", "centre_of_mass")
-    f1 = math.inf
-    for b in d["building"]:
-        rod = b.get("floor_model") or {}
-        masses = b["floor_masses"] if isinstance(b["floor_masses"], list) else [b["floor_masses"]]
-        if rod.get("kind") == "rod" and "attachment" not in rod:
-            floor = RodFloor(**{k: rod[k] for k in keys if k in rod})
-            f1 = min(f1, floor.first_axial_omega(max(masses)) / (2.0 * math.pi))
-    if not math.isfinite(f1):
+    rods = [(b, b["floor_model"]) for b in d["building"]
+            if (b.get("floor_model") or {}).get("kind") == "rod" and "attachment" not in b["floor_model"]]
+    if not rods:
         return None
+    f1 = min(_first_axial(max(b["floor_masses"] if isinstance(b["floor_masses"], list) else [b["floor_masses"]]), rod)
+             for b, rod in rods)
     n = segments_for(context.band_top_hz, f1)
-    if all(n <= (b.get("floor_model") or {}).get("segments", n) for b in d["building"]):
+    if all(n <= rod["segments"] for _, rod in rods):
         return None
-    for b in d["building"]:
-        if (b.get("floor_model") or {}).get("kind") == "rod":
-            b["floor_model"]["segments"] = n
+    for _, rod in rods:
+        rod["segments"] = n
     return d
 
 

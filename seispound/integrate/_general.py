@@ -95,7 +95,7 @@ def _general_work(n, nn, nm, bands, n_ff, dt, state0, init):
     contact substep, the substeps since its impact's onset and the impact's number;
     ev = (d0, r0, d1, r1, toggles, land_too, gk, g_t, g_1): the elements' deformations and rates at the
     step's start and end, the gaps switched together, the ground terms;
-    fl = (u1, v1, a1, xs, ys, cst, rise, zs, itr, corr): a free-flight step's trial state and scratch
+    fl = (u1, v1, a1, xs, ys, cst, rise, zs, itr, corr, dr): a free-flight step's trial state and scratch
     (``_general_flight._free_flight``).
     """
     p, pT, el_pred = bands
@@ -119,7 +119,7 @@ def _general_work(n, nn, nm, bands, n_ff, dt, state0, init):
     ev = (np.empty(nn), np.empty(nn), np.empty(nn), np.empty(nn), np.empty(nw, np.int64), np.empty(nw, np.int64),
           np.zeros((4, nn)), np.empty(nm), np.empty(nm))
     fl = (np.empty(n), np.empty(n), np.empty(n), np.empty(2 * n + 2 * nm), np.empty(3 * n), np.empty(nf),
-          np.zeros(2 * nf + 1), np.zeros(6 * nf), np.zeros(nf, np.bool_), np.zeros(nf))
+          np.zeros(2 * nf + 1), np.zeros(6 * nf), np.zeros(nf, np.bool_), np.zeros(nf), np.zeros(4 * nf))
     return fac, st, lists, nwt, tang, elem, ev, fl
 
 

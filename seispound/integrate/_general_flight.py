@@ -52,7 +52,7 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
     u, v = st[0], st[1]
     st_c, active = elem[0], elem[6]
     d0, r0, d1, r1, land_too, gk, g_t, g_1 = ev[0], ev[1], ev[2], ev[3], ev[5], ev[6], ev[7], ev[8]
-    u1, v1, a1, xs, ys, cst, rise, zs, itr, corr = fl
+    u1, v1, a1, xs, ys, cst, rise, zs, itr, corr, dr = fl
     st_elem = ff[10]
     n_itr = 0
     for j in range(st_elem.size):  # F = k delta - c: c = (1 - alpha) k delta_p, fixed while elastic
@@ -70,11 +70,13 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
     de = _free_flight_trial(ff, u, v, g_t, g_1, u1, v1, a1, xs, ys, cst)
     if moving:
         _gap_ground_all(ne_ground, t_end, dt, gk, GU1)
+    for j in range(st_elem.size):  # each storey's deformation and rate at the step's start, read by every sweep
+        dr[4 * j], dr[4 * j + 1] = _deformation_at(elg[0], elg[1], elg[2], st_elem[j], u, v, gk, GU0)
     dwh = 0.0
     rise[rise.size - 1] = 0
     if n_itr > 0:  # Bouc-Wen and yielding bilinear storeys: their terms within the step
-        ok, de_bw, dwh = _hysteretic_flight(ff, elg[:5], (st_c, cst), (u, v), (u1, v1, a1),
-                                            xs[xs.size - 2 * g_t.size:], gk, dt, (rise, zs, itr, corr))
+        ok, de_bw, dwh = _hysteretic_flight(ff, elg[:5], (st_c, cst), (u1, v1, a1),
+                                            xs[xs.size - 2 * g_t.size:], gk, dt, (rise, zs, itr, corr, dr))
         if not ok:
             return False, energy
         de += de_bw
@@ -83,7 +85,7 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
             d1[q], r1[q] = _deformation_at(elg[0], elg[1], elg[2], q, u1, v1, gk, GU1)
     if _screen_elements(ne_gap, active, d0, r0, d1, r1, dt, False, -1, land_too)[1] >= 0:
         return False, energy
-    ok, dwh = _elastic_through(ff, elg, st_c, (u, v, u1, v1), (d1, r1), gk, dt, cst, (zs, itr), dwh)
+    ok, dwh = _elastic_through(ff, elg, st_c, (u1, v1), (d1, r1), gk, dt, cst, (zs, itr, dr), dwh)
     if not ok:
         return False, energy
     dke = kinetic_energy(lin[0], lin[1], lin[2], lin[9], v1) - kinetic_energy(lin[0], lin[1], lin[2], lin[9], v)
@@ -100,12 +102,12 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
 def _elastic_through(ff, elg, st_c, x, dr1, gk, dt, cst, terms, dwh):
     """Does each bilinear storey whose term is not iterated stay within its elastic range over the whole
     free-flight step (the cubic bound of ``_events``)?  Returns (ok, dwh plus those storeys' work [J]); fills
-    each storey's end deformation and rate into dr1 = (d1, r1) (an iterated storey's from its path: terms =
-    (zs, itr), ``_hysteretic_flight``)."""
+    each storey's end deformation and rate, at the end state x = (u1, v1), into dr1 = (d1, r1) (an iterated
+    storey's from its path: terms = (zs, itr, dr), ``_hysteretic_flight``; dr holds the start's)."""
     ne_dof, ne_coef, ne_size, ne_par = elg[0], elg[1], elg[2], elg[4]
-    u, v, u1, v1 = x
+    u1, v1 = x
     d1, r1 = dr1
-    zs, itr = terms
+    zs, itr, dr = terms
     st_elem = ff[10]
     for j in range(st_elem.size):
         q = st_elem[j]
@@ -115,7 +117,7 @@ def _elastic_through(ff, elg, st_c, x, dr1, gk, dt, cst, terms, dwh):
         k = ne_par[q, B_K]
         hi = st_c[q, ST_PLASTIC] + ne_par[q, B_FY] / k
         lo = st_c[q, ST_PLASTIC] - ne_par[q, B_FY] / k
-        ds0, rs0 = _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, GU0)
+        ds0, rs0 = dr[4 * j], dr[4 * j + 1]
         ds1, rs1 = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
         tol = 1e-12 * (hi - lo)
         if (_event_in_step(ds0 - hi, rs0, ds1 - hi, rs1, dt, True, tol) <= 1.0
@@ -247,7 +249,7 @@ def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs, ys, cst):
 
 
 @njit(cache=True)
-def _hysteretic_flight(ff, elg, mat, x0, x1, gs, gk, h, terms):
+def _hysteretic_flight(ff, elg, mat, x1, gs, gk, h, terms):
     """Iterate the hysteretic storeys' terms over a free-flight step; (converged, input work [J], storeys' work [J]).
 
     A Bouc-Wen storey's force is k delta - c with c = (1 - alpha) k (delta - z) (``_material``), and so is a
@@ -265,12 +267,14 @@ def _hysteretic_flight(ff, elg, mat, x0, x1, gs, gk, h, terms):
     bilinear storey yielding from inside its elastic range (a kink in c(t) that no quadratic holds): the
     physical path takes the step.
 
-    elg = (ne_dof, ne_coef, ne_size, ne_code, ne_par): the elements with state; mat = (st_c, cst); x0 = (u, v)
-    the step's start; x1 = (u1, v1, a1) (in: with c0 held) end with the final terms; gs the ground accelerations
-    at the step's start and end (2 nm,); terms = (rise, zs, itr, corr): rise (2 ns + 1) holds dm, d1 and the
-    sweeps made; zs (6 ns) per storey z at the end, eps at the end, the deformation at the end and at the
-    middle of its last integration, and the law's slopes there; itr (ns,) the storeys whose terms are
-    iterated (the others' c stays c0); corr (ns,) each one's predicted next correction.  The storey's work
+    elg = (ne_dof, ne_coef, ne_size, ne_code, ne_par): the elements with state; mat = (st_c, cst); x1 = (u1,
+    v1, a1) (in: with c0 held) the step's end with the final terms; gs the ground accelerations at the step's
+    start and end (2 nm,); terms = (rise, zs, itr, corr, dr): rise (2 ns + 1) holds dm, d1 and the sweeps
+    made; zs (6 ns) per storey z at the end, eps at the end, the deformation at the end and at the middle of
+    its last integration, and the law's slopes there; itr (ns,) the storeys whose terms are iterated (the
+    others' c stays c0); corr (ns,) each one's predicted next correction; dr (4 ns) per storey its
+    deformation and rate at the step's start (set by the caller, fixed over the step) and at the end as the
+    last prediction read them.  The storey's work
     int (k delta - c) d(delta) is exact for the quadratic c and cubic delta (3-point Gauss-Legendre; derived
     here, not read from a source).
     """
@@ -289,16 +293,16 @@ def _hysteretic_flight(ff, elg, mat, x0, x1, gs, gk, h, terms):
         o_q += 6 * nb * (st_start[c + 1] - st_start[c])
     for it in range(BW_FLIGHT_ITER):
         rise[rise.size - 1] = it + 1  # sweeps made (the driver's iteration count)
-        if not _hysteretic_sweep(ff, elg, mat, x0, x1, gk, h, terms, it == 0):
+        if not _hysteretic_sweep(ff, elg, mat, x1, gk, h, terms, it == 0):
             return False, 0.0, 0.0
-        if _hysteretic_next(ff, elg, x0, x1, gk, h, terms) <= BW_FLIGHT_TOL:
-            de, dwh = _hysteretic_work(ff, elg, mat, x0, x1, gs, gk, h, terms)
+        if _hysteretic_next(ff, elg, x1, gk, h, terms) <= BW_FLIGHT_TOL:
+            de, dwh = _hysteretic_work(ff, elg, mat, gs, h, terms)
             return True, de, dwh
     return False, 0.0, 0.0
 
 
 @njit(cache=True, inline="always")
-def _hysteretic_sweep(ff, elg, mat, x0, x1, gk, h, terms, first):
+def _hysteretic_sweep(ff, elg, mat, x1, gk, h, terms, first):
     """One Gauss-Seidel sweep of ``_hysteretic_flight`` over the iterated storeys (after the ``first``, those
     whose predicted correction exceeds the tolerance): each storey's z along its end state's cubic, its
     rises dm, d1 [N] corrected and added to the end state x1.  False: a bilinear storey yields from inside
@@ -306,9 +310,8 @@ def _hysteretic_sweep(ff, elg, mat, x0, x1, gk, h, terms, first):
     start, st_elem, st_start, gq = ff[1], ff[10], ff[11], ff[14]
     ne_dof, ne_coef, ne_size, ne_code, ne_par = elg[0], elg[1], elg[2], elg[3], elg[4]
     st_c, cst = mat
-    u, v = x0
     u1, v1 = x1[0], x1[1]
-    rise, zs, itr, corr = terms
+    rise, zs, itr, corr, dr = terms
     o_q = 0
     for c in range(start.size - 1):
         a = start[c]
@@ -317,7 +320,7 @@ def _hysteretic_sweep(ff, elg, mat, x0, x1, gk, h, terms, first):
             q = st_elem[j]
             if not itr[j] or (not first and corr[j] <= BW_FLIGHT_TOL):
                 continue
-            ds0, rs0 = _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, GU0)
+            ds0, rs0 = dr[4 * j], dr[4 * j + 1]
             ds1, rs1 = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
             ca, cb, cc = _cubic(ds0, rs0, ds1, rs1, h)
             if ne_code[q] == BOUC_WEN:
@@ -349,22 +352,22 @@ def _yield_scale(code, par, q):
 
 
 @njit(cache=True, inline="always")
-def _hysteretic_next(ff, elg, x0, x1, gk, h, terms):
+def _hysteretic_next(ff, elg, x1, gk, h, terms):
     """The next sweep's largest correction, predicted from how far the last sweep's updates moved each
     iterated storey's deformation at the step's middle and end times the law's slope there, relative
     to its yield displacement, each storey's kept in corr (``_hysteretic_flight``)."""
     st_elem = ff[10]
     ne_dof, ne_coef, ne_size, ne_code, ne_par = elg[0], elg[1], elg[2], elg[3], elg[4]
-    u, v = x0
     u1, v1 = x1[0], x1[1]
-    zs, itr, corr = terms[1], terms[2], terms[3]
+    zs, itr, corr, dr = terms[1], terms[2], terms[3], terms[4]
     pred = 0.0
     for j in range(st_elem.size):
         q = st_elem[j]
         if not itr[j]:
             continue
-        ds0, rs0 = _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, GU0)
+        ds0, rs0 = dr[4 * j], dr[4 * j + 1]
         ds1, rs1 = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
+        dr[4 * j + 2], dr[4 * j + 3] = ds1, rs1  # (read by ``_hysteretic_work`` if no sweep follows)
         dm_ = _hermite(0.5, ds0, rs0, ds1, rs1, h)
         step1, stepm = ds1 - zs[6 * j + 2], dm_ - zs[6 * j + 3]
         corr[j] = (abs((1.0 - zs[6 * j + 4]) * stepm) + abs((1.0 - zs[6 * j + 5]) * step1)) / _yield_scale(
@@ -374,15 +377,13 @@ def _hysteretic_next(ff, elg, x0, x1, gk, h, terms):
 
 
 @njit(cache=True, inline="always")
-def _hysteretic_work(ff, elg, mat, x0, x1, gs, gk, h, terms):
+def _hysteretic_work(ff, elg, mat, gs, h, terms):
     """The converged step's input work of the rises [J], z's linear correction, and the iterated storeys'
     work along the final path [J] (``_hysteretic_flight``)."""
     start, st_elem, st_start, egq = ff[1], ff[10], ff[11], ff[15]
-    ne_dof, ne_coef, ne_size, ne_code, ne_par = elg[0], elg[1], elg[2], elg[3], elg[4]
+    ne_code, ne_par = elg[3], elg[4]
     cst = mat[1]
-    u, v = x0
-    u1, v1 = x1[0], x1[1]
-    rise, zs, itr = terms[0], terms[1], terms[2]
+    rise, zs, itr, dr = terms[0], terms[1], terms[2], terms[4]
     nm = gs.size // 2
     de = 0.0
     dwh = 0.0
@@ -396,8 +397,7 @@ def _hysteretic_work(ff, elg, mat, x0, x1, gs, gk, h, terms):
             base = o_e + (j - st_start[c]) * 4 * nm
             for m in range(2 * nm):
                 de += gs[m] * (egq[base + m] * dm + egq[base + 2 * nm + m] * d1)
-            ds0, rs0 = _deformation_at(ne_dof, ne_coef, ne_size, q, u, v, gk, GU0)
-            ds1, rs1 = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
+            ds0, rs0, ds1, rs1 = dr[4 * j], dr[4 * j + 1], dr[4 * j + 2], dr[4 * j + 3]  # (``_hysteretic_next``'s)
             step1 = ds1 - zs[6 * j + 2]
             zs[6 * j] += zs[6 * j + 5] * step1
             if ne_code[q] == BOUC_WEN:

@@ -1,6 +1,6 @@
 """Where the pounding kernel spends its time: a sampling profile by function.
 
-``python -m benchmarks.profile_kernel [--model M | --row BxS] [--physics NAME] [--seconds S]``
+``python -m benchmarks.profile_kernel [--model M | --row BxS] [--physics NAME] [--seconds S] [--lines N] [--keep DIR]``
 (Linux, needs ``perf`` and ``nm`` on the PATH).
 
 numba's compiled code has no symbols that ``perf`` can see, so this does it in
@@ -174,6 +174,10 @@ def main(argv=None) -> int:
                     help="also the N source lines with most samples; numba inlines in its own IR, so an "
                     "inlined helper's samples fall on the helper's lines (compiles with NUMBA_DEBUGINFO=1; "
                     "needs addr2line)")
+    ap.add_argument("--keep", metavar="DIR",
+                    help="keep the compiled kernel (and numba's cache) in DIR, and reuse them when DIR holds them: "
+                         "another model on the same driver, with the same source and --lines or not, is then "
+                         "profiled without compiling again")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
@@ -183,17 +187,22 @@ def main(argv=None) -> int:
             print(f"benchmarks.profile_kernel: {tool} not found on the PATH", file=sys.stderr)
             return 2
     with tempfile.TemporaryDirectory(prefix="seispound-profile-") as tmp:
-        out = Path(tmp)
+        out = Path(args.keep) if args.keep else Path(tmp)
+        out.mkdir(parents=True, exist_ok=True)
+        for old in ("kernel_addr", "stats", "perf.data"):  # a kept folder's last profile
+            (out / old).unlink(missing_ok=True)
         env = dict(os.environ, NUMBA_CACHE_DIR=str(out / "numba-cache"))
         if args.lines:
             env["NUMBA_DEBUGINFO"] = "1"
-        print("compiling the kernel into a fresh numba cache (about a minute) ...", file=sys.stderr, flush=True)
         cmd = [sys.executable, "-m", "benchmarks.profile_kernel", "--model", args.model,
                "--seconds", str(args.seconds), "--driver", args.driver, "--child", str(out)]
         cmd += (["--row", args.row] if args.row else []) + (["--physics", args.physics] if args.physics else [])
-        if subprocess.run(cmd, cwd=REPO, env=env).returncode != 0 or not (out / "kernel.o").exists():
-            print("benchmarks.profile_kernel: compiling the kernel failed", file=sys.stderr)
-            return 2
+        if not (out / "kernel.o").exists():
+            print("compiling the kernel into a fresh numba cache (minutes; with --lines tens of minutes) ...",
+                  file=sys.stderr, flush=True)
+            if subprocess.run(cmd, cwd=REPO, env=env).returncode != 0 or not (out / "kernel.o").exists():
+                print("benchmarks.profile_kernel: compiling the kernel failed", file=sys.stderr)
+                return 2
         child = subprocess.Popen(cmd,
                                  cwd=REPO, env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
         line = child.stdout.readline()

@@ -173,7 +173,8 @@ def main(argv=None) -> int:
     ap.add_argument("--lines", type=int, default=0, metavar="N",
                     help="also the N source lines with most samples; numba inlines in its own IR, so an "
                     "inlined helper's samples fall on the helper's lines (compiles with NUMBA_DEBUGINFO=1; "
-                    "needs addr2line)")
+                    "needs addr2line; the general driver's debug build, every phase inlined, grew past 24 GB of "
+                    "memory and was killed)")
     ap.add_argument("--keep", metavar="DIR",
                     help="keep the compiled kernel (and numba's cache) in DIR, and reuse them when DIR holds them: "
                          "another model on the same driver, with the same source and --lines or not, is then "

@@ -57,8 +57,6 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
     n_itr = 0
     for j in range(st_elem.size):  # F = k delta - c: c = (1 - alpha) k delta_p, fixed while elastic
         q = st_elem[j]
-        # the storey's deformation and rate at the step's start, read by every sweep (gk's start row stays)
-        dr[4 * j], dr[4 * j + 1] = _deformation_at(elg[0], elg[1], elg[2], q, u, v, gk, GU0)
         if ne_code[q] == BOUC_WEN:  # c = (1 - alpha) k (delta - z) at the step's start
             cst[j] = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * (st_c[q, ST_DELTA] - st_c[q, ST_Z])
             itr[j] = True
@@ -72,6 +70,8 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
     de = _free_flight_trial(ff, u, v, g_t, g_1, u1, v1, a1, xs, ys, cst)
     if moving:
         _gap_ground_all(ne_ground, t_end, dt, gk, GU1)
+    for j in range(st_elem.size):  # each storey's deformation and rate at the step's start, read by every sweep
+        dr[4 * j], dr[4 * j + 1] = _deformation_at(elg[0], elg[1], elg[2], st_elem[j], u, v, gk, GU0)
     dwh = 0.0
     rise[rise.size - 1] = 0
     if n_itr > 0:  # Bouc-Wen and yielding bilinear storeys: their terms within the step

@@ -177,8 +177,8 @@ def main(argv=None) -> int:
                     "memory and was killed)")
     ap.add_argument("--keep", metavar="DIR",
                     help="keep the compiled kernel (and numba's cache) in DIR, and reuse them when DIR holds them: "
-                         "another model on the same driver, with the same source and --lines or not, is then "
-                         "profiled without compiling again")
+                         "another model on the same driver is then profiled without compiling again (a kernel "
+                         "kept from another source, or with --lines where it had none, is compiled again)")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
@@ -192,6 +192,15 @@ def main(argv=None) -> int:
         out.mkdir(parents=True, exist_ok=True)
         for old in ("kernel_addr", "stats", "perf.data"):  # a kept folder's last profile
             (out / old).unlink(missing_ok=True)
+        # a kept kernel serves only the source and build it was compiled from: its offsets are the cache's
+        from seispound._jit import package_stamp
+
+        key = f"{package_stamp()} lines={bool(args.lines)}\n"
+        if (out / "kernel.o").exists() and (not (out / "key").exists() or (out / "key").read_text() != key):
+            print("benchmarks.profile_kernel: the kept kernel was compiled from another source or build: "
+                  "compiling again", file=sys.stderr)
+            shutil.rmtree(out / "numba-cache", ignore_errors=True)
+            (out / "kernel.o").unlink()
         env = dict(os.environ, NUMBA_CACHE_DIR=str(out / "numba-cache"))
         if args.lines:
             env["NUMBA_DEBUGINFO"] = "1"
@@ -204,6 +213,7 @@ def main(argv=None) -> int:
             if subprocess.run(cmd, cwd=REPO, env=env).returncode != 0 or not (out / "kernel.o").exists():
                 print("benchmarks.profile_kernel: compiling the kernel failed", file=sys.stderr)
                 return 2
+            (out / "key").write_text(key)
         child = subprocess.Popen(cmd,
                                  cwd=REPO, env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
         line = child.stdout.readline()

@@ -274,9 +274,8 @@ def _hysteretic_flight(ff, elg, mat, x1, gs, gk, h, terms):
     its last integration, and the law's slopes there; itr (ns,) the storeys whose terms are iterated (the
     others' c stays c0); corr (ns,) each one's predicted next correction; dr (4 ns) per storey its
     deformation and rate at the step's start (set by the caller, fixed over the step) and at the end as the
-    last prediction read them.  The storey's work
-    int (k delta - c) d(delta) is exact for the quadratic c and cubic delta (3-point Gauss-Legendre; derived
-    here, not read from a source).
+    last prediction read them.  The storey's work int (k delta - c) d(delta) is exact for the quadratic c and
+    cubic delta (3-point Gauss-Legendre; derived here, not read from a source).
     """
     start, st_start, gq = ff[1], ff[11], ff[14]
     rise, itr = terms[0], terms[2]

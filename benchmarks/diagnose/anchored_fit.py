@@ -91,6 +91,7 @@ def main(argv=None) -> int:
         label = "one joint fit"
     print(f"{case.name}, form {args.form}, start {args.start} (yield drifts {drifts}), {args.base} base: {label}, "
           f"NE {fit.ne_mean_after:.4f} ({fit.evaluations} simulations, {time.perf_counter() - t0:.0f} s)")
+    print("  " + ", ".join(f"{q} {v['value']:.4g}" for q, v in fit.parameters.items()))
     return 0
 
 

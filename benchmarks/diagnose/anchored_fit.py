@@ -50,7 +50,7 @@ def main(argv=None) -> int:
     case = args.case
     report = json.loads((case / "report.json").read_text())
     model, chans, trials = load_inputs(case / "model.toml", [case / "recording.mseed"], case / "channels.toml", None)
-    chans = [c for c in chans if not (c.quantity == "acceleration" and c.floor == 0)]  # the input, as diagnose
+    chans = api._responses(chans)  # the channels diagnose fits
     data = tomllib.loads(model.text)
     an = data.setdefault("analysis", {})  # the step and contact substeps diagnose ran at (its numerics)
     an["dt"], an["contact_substeps"] = report["numerics"]["dt"], report["numerics"]["contact_substeps"]
@@ -69,8 +69,9 @@ def main(argv=None) -> int:
             start[f"building.{b}.storey_law.yield_drift"] = q["yield_drift"]
     else:
         mu = float(args.start.split(":")[1])
-        nulls = [{k: v for k, v in start.items()}]
-        anchors = dict(api._yield_anchors(data, specs, nulls, case, trials)[list(api.DUCTILITIES).index(mu)][1])
+        if mu not in api.DUCTILITIES:
+            ap.error(f"--start anchor:MU: MU is one of the search's ductilities {api.DUCTILITIES}")
+        anchors = api._yield_anchors(data, specs, [dict(start)], case, trials)[api.DUCTILITIES.index(mu)][1]
         start.update({k: v for k, v in anchors.items() if k.endswith(".yield_drift")})
     if args.pinch is not None:
         start["building.*.storey_law.pinching"] = args.pinch

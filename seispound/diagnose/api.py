@@ -422,6 +422,12 @@ def _scale_held(data, params, base, chans, trial_list) -> dict:
                   "by one factor changes no channel; the other buildings' masses are fitted relative to it"}
 
 
+def _responses(chans) -> list:
+    """The channels a diagnosis fits: every mapped channel but the base accelerations (floor 0), which are the
+    input, not a response."""
+    return [c for c in chans if not (c.quantity == "acceleration" and c.floor == 0)]
+
+
 def _number(x) -> bool:
     return isinstance(x, (int, float)) and not isinstance(x, bool)
 
@@ -454,7 +460,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
     jobs = (os.cpu_count() or 1) if jobs is None else int(jobs)
     model, chans, trial_list = load_inputs(model, recordings, channels, trials)
     context = _context(chans, trial_list, _input_ids(model))
-    chans = [c for c in chans if not (c.quantity == "acceleration" and c.floor == 0)]  # the input, not a response
+    chans = _responses(chans)
     base_data = tomllib.loads(model.text)
     # every fit's contact substeps as given, else 32 (what the numerics check below doubles)
     base_data.setdefault("analysis", {}).setdefault("contact_substeps", 32)

@@ -13,7 +13,8 @@ then with one physics switched on at a time, then with all of them:
 
 Every case takes 32 contact substeps (given, so that each integrates once at equal settings;
 at the default tolerance a run also checks itself, docs/tolerance.md).
-Reported: medians of ``repeat`` interleaved rounds, each case's time and its
+Reported: medians of ``repeat`` interleaved rounds (each case timed on the second of two runs in a row,
+``timing.warm_medians``), each case's time and its
 ratio to the plain row in the same process, the driver that ran it, and the
 steps it took.
 """
@@ -22,8 +23,6 @@ from __future__ import annotations
 
 import argparse
 import copy
-import statistics
-import time
 import warnings
 from pathlib import Path
 
@@ -78,6 +77,8 @@ def cases(model):
 def main(argv=None) -> int:
     from seispound import load_model, simulate
 
+    from .physics_accuracy import time_cases
+
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--model", default=str(REPO / "models" / "row_of_three.toml"))
@@ -91,17 +92,12 @@ def main(argv=None) -> int:
 
         st = json.loads(ds.attrs["integrator_stats"])
         info[name] = (ds.attrs["driver"], st["steps"], int(ds.sizes["impact"]))
-    times = {name: [] for name in models}
-    for _ in range(args.repeat):
-        for name, m in models.items():
-            t0 = time.perf_counter()
-            simulate(m)
-            times[name].append(time.perf_counter() - t0)
-    base = statistics.median(times["plain"])
+    times = time_cases(models, args.repeat, twin=True)
+    base = times["plain"]
     print(f"{args.model}: whole simulate(model) with its twin, medians of {args.repeat}, one process")
     print(f"  {'case':22s} {'time [ms]':>10s} {'ratio':>7s}  driver   steps  impacts")
     for name in models:
-        t = statistics.median(times[name])
+        t = times[name]
         drv, steps, imp = info[name]
         print(f"  {name:22s} {1e3 * t:10.1f} {t / base:7.2f}  {drv:7s} {steps:6d} {imp:8d}")
     return 0

@@ -6,8 +6,9 @@ Each case runs ``simulate(twin=False)`` at the analysis step 5 ms and at 0.5 ms 
 reference); reported are the floor-acceleration NE, ||a - a_ref|| / ||a_ref|| over every floor
 and the 5 ms samples, the number of impacts of each, the scheme the run used (its ``scheme`` and
 ``driver`` attributes) and the wall time of the 5 ms run with its ratio to the elastic row's: the
-median of ``--repeat`` rounds that run every case once each, alternating in one process, so that the
-machine's drift between cases (20-50 % within minutes here) does not enter the ratios.  Issue 29's targets: NE at most 0.5 % for each
+median of ``--repeat`` rounds that run every case in turn, alternating in one process, each case timed on the
+second of two runs in a row (``timing.warm_medians``), so that neither the machine's drift between cases
+(20-50 % within minutes here) nor the case run before enters the ratios.  Issue 29's targets: NE at most 0.5 % for each
 physics alone and for all together; each physics at most 2 times the elastic row's time, all
 together at most 5.  Both runs take 32 contact substeps per impact (given,
 not chosen from a tolerance), so that what differs between them is the step of each physics; the
@@ -18,7 +19,6 @@ from __future__ import annotations
 
 import argparse
 import tempfile
-import time
 import warnings
 from pathlib import Path
 
@@ -110,19 +110,14 @@ def run_case(name, folder, dt=0.005, ref_dt=0.0005):
                 scheme=ds.attrs.get("scheme"), driver=ds.attrs.get("driver"), model=model)
 
 
-def time_cases(models, repeat):
-    """{case: median wall [s] of ``simulate(twin=False)``}, ``repeat`` rounds over every case in turn."""
-    import statistics
-
+def time_cases(models, repeat, twin=False):
+    """{case: median wall [s] of ``simulate(model, twin=twin)``} (``timing.warm_medians``: alternating rounds,
+    each case timed on the second of two runs in a row)."""
     import seispound as sp
 
-    walls = {name: [] for name in models}
-    for _ in range(repeat):
-        for name, m in models.items():
-            t0 = time.perf_counter()
-            sp.simulate(m, twin=False)
-            walls[name].append(time.perf_counter() - t0)
-    return {name: statistics.median(w) for name, w in walls.items()}
+    from .timing import warm_medians
+
+    return warm_medians({name: (lambda m=m: sp.simulate(m, twin=twin)) for name, m in models.items()}, repeat)
 
 
 def main(argv=None) -> int:

@@ -8,6 +8,11 @@ competes for the cores.  Measured: a matrix exponential of 122 x 122 in 187 ms i
 1.9 ms; the whole ``calibrate`` of ``benchmarks.calibration`` in 0.96 s instead of 0.37 s
 (``python -m benchmarks.blas_threads``).
 
+The same holds for the per-floor read-out of a row whose DOFs are not its floors (``results.floors``:
+a few (steps x DOFs) by (DOFs x floors) products per run): a study of the 5 + 8 storey pair with soil
+under one building, 200 runs on two workers, took 6.9 s with BLAS on its default threads against 4.4 s
+on one (``python -m benchmarks.blas_threads --study``), the stores equal value for value.
+
 ``one_thread()`` (and the decorator ``single_threaded``) limits every loaded BLAS to one thread
 for the duration of a ``with`` block and restores the caller's setting after it, through
 ``threadpoolctl`` (the maintained library scikit-learn uses for this).  Finding the loaded libraries is the slow part (about 1 ms), so it

@@ -82,10 +82,10 @@ def _case_none(tmp, seed):
 
 
 def _forms(seed, repeat) -> int:
-    import statistics
-
     from seispound.calibrate.observe import Observer
     from seispound.diagnose.hypotheses import REGISTRY
+
+    from ..timing import warm_medians
 
     with tempfile.TemporaryDirectory() as tmp:
         f, data, chans, trials = _case_none(tmp, seed)
@@ -104,29 +104,27 @@ def _forms(seed, repeat) -> int:
             obs = Observer(table, f, chans, trials)
             obs.simulate(overrides)  # compiled and warm
             observers.append(obs)
-        ts = [[] for _ in forms]
-        for _ in range(repeat):  # every form once per round: the machine's drift between forms cancels
-            for obs, (_, _, overrides, _), t in zip(observers, forms, ts):
-                t0 = time.perf_counter()
-                obs.simulate(overrides)
-                t.append(time.perf_counter() - t0)
-        base = statistics.median(ts[0])
+        # every form in each round (the machine's drift between forms cancels), each on its second run
+        ts = warm_medians({k: (lambda o=obs, ov=form[2]: o.simulate(ov))
+                           for k, (obs, form) in enumerate(zip(observers, forms))}, repeat)
+        base = ts[0]
         print(f"one simulation, 2 buildings, 30 s at 200 Hz, median of {repeat} rounds over every form:")
         print(f"  base row: {1e3 * base:.1f} ms ({len(observers[0].impact_times[0])} impacts)")
-        for (label, _, _, p), t in zip(forms[1:], ts[1:]):
-            m = statistics.median(t)
+        for k, (label, _, _, p) in enumerate(forms[1:], 1):
+            m = ts[k]
             print(f"  {label}: {1e3 * m:.1f} ms ({m / base:.1f} x the base row), {p} parameters", flush=True)
     return 0
 
 
 def _drivers(seed, repeat) -> int:
     import copy
-    import statistics
 
     from seispound.calibrate.observe import Observer
     from seispound.diagnose.hypotheses import REGISTRY
     from seispound.integrate import integrate
     from seispound.simulation import newmark_substeps, run_inputs
+
+    from ..timing import warm_medians
 
     with tempfile.TemporaryDirectory() as tmp:
         f, data, chans, trials = _case_none(tmp, seed)
@@ -153,16 +151,13 @@ def _drivers(seed, repeat) -> int:
             raw = integrate(*args, **kw)  # compiled and warm
             if driver == "auto" and raw.driver != "general":
                 continue
-            runs.append((label, args, kw, raw.stats, []))
-        for _ in range(repeat):
-            for _, args, kw, _, ts in runs:
-                t0 = time.perf_counter()
-                integrate(*args, **kw)
-                ts.append(time.perf_counter() - t0)
-        base = statistics.median(runs[0][4])
+            runs.append((label, args, kw, raw.stats))
+        ts = warm_medians({k: (lambda a=args, k_=kw: integrate(*a, **k_)) for k, (_, args, kw, _) in enumerate(runs)},
+                          repeat)
+        base = ts[0]
         print(f"integrate alone, 2 buildings, 30 s at 200 Hz, median of {repeat} alternating rounds:")
-        for label, _, _, st, ts in runs:
-            m = statistics.median(ts)
+        for k, (label, _, _, st) in enumerate(runs):
+            m = ts[k]
             print(f"  {label:48s} {1e3 * m:7.2f} ms  {m / base:5.2f} x  steps {st['steps']:6d} "
                   f"({st['free_flight_steps']} in free flight), DOF-steps {st['dof_steps']}", flush=True)
     return 0

@@ -13,6 +13,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .. import _blas
+
 __all__ = ["FloorSystem", "floor_view", "foundation_motion"]
 
 
@@ -43,7 +45,11 @@ def floor_view(raw, system):
     if raw is None:
         return None, fsys
     S, D = out.sensor, out.deformation
-    u = raw.displacement @ S.T
+    # one BLAS thread: on a busy machine (a study's workers on every core) the second one waits for a core,
+    # and a study of a pair with soil took 1.6 times as long (docs/performance.md)
+    with _blas.one_thread():
+        u, vel, acc, drift = (raw.displacement @ S.T, raw.velocity @ S.T, raw.acceleration @ S.T,
+                              raw.displacement @ D.T)
     peak = np.abs(u).max(axis=0) if u.shape[0] else np.zeros(S.shape[0])
     one = out.single >= 0
     peak[one] = raw.peak_displacement[out.single[one]]
@@ -54,8 +60,8 @@ def floor_view(raw, system):
         storey_force = np.zeros((raw.storey_force.shape[0], storey_rows.size))
         for q, r in enumerate(rows):
             storey_force[:, np.searchsorted(storey_rows, r)] += raw.storey_force[:, q]
-    return replace(raw, displacement=u, velocity=raw.velocity @ S.T, acceleration=raw.acceleration @ S.T,
-                   peak_displacement=peak, drift=raw.displacement @ D.T, storey_force=storey_force,
+    return replace(raw, displacement=u, velocity=vel, acceleration=acc,
+                   peak_displacement=peak, drift=drift, storey_force=storey_force,
                    storey_dofs=storey_rows), fsys
 
 

@@ -110,20 +110,22 @@ def run_case(name, folder, dt=0.005, ref_dt=0.0005):
                 scheme=ds.attrs.get("scheme"), driver=ds.attrs.get("driver"), model=model)
 
 
-def time_cases(models, repeat, twin=False):
+def time_cases(models, repeat, twin=False, warm=True):
     """{case: median wall [s] of ``simulate(model, twin=twin)``} (``timing.warm_medians``: alternating rounds,
-    each case timed on the second of two runs in a row)."""
+    each case timed on the second of two runs in a row; ``warm`` False: on its only run)."""
     import seispound as sp
 
     from .timing import warm_medians
 
-    return warm_medians({name: (lambda m=m: sp.simulate(m, twin=twin)) for name, m in models.items()}, repeat)
+    return warm_medians({name: (lambda m=m: sp.simulate(m, twin=twin)) for name, m in models.items()}, repeat, warm)
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--physics", default=",".join(CASES), help="comma-separated case names")
     ap.add_argument("--repeat", type=int, default=7, help="rounds of timed 5 ms runs over every case (medians)")
+    ap.add_argument("--cold", action="store_true",
+                    help="time each case on its only run in a round, after the case before it (for comparison)")
     args = ap.parse_args(argv)
     warnings.simplefilter("ignore")
     print(f"{'case':20s} {'NE at 5 ms':>10s} {'impacts':>9s} {'ref':>5s}  scheme   driver   time [ms]  ratio")
@@ -135,7 +137,7 @@ def main(argv=None) -> int:
         for name in names:
             rows.append(run_case(name, tmp))
             print(f"  {name}: accuracy run", flush=True)
-        walls = time_cases({r["case"]: r["model"] for r in rows}, args.repeat)
+        walls = time_cases({r["case"]: r["model"] for r in rows}, args.repeat, warm=not args.cold)
         base = walls["elastic row"]
         for r in rows:
             wall = walls[r["case"]]

@@ -4,9 +4,8 @@ The benchmarks that compare the cost of several cases in one process (``physics`
 ``diagnose.speed --forms`` and ``--drivers``) time them here.  Rounds that run every case in turn let the
 machine's drift (20-50 % within minutes here) fall on every case alike.  Within a round each case runs
 twice and the second run is timed: the run after a large case pays for faulting in the memory that case
-gave back (on the 5 + 8 storey pair of ``physics_accuracy``, the elastic row timed right after the row with
-every physics took 6.2 ms against 4.3 ms timed after itself), which had made the first case of every round,
-the ratios' denominator, the slowest, and the ratios to it too small.
+gave back, which made the first case of every round, the ratios' denominator, the slowest, and the ratios
+to it too small (``python -m benchmarks.physics_accuracy --cold`` times the cases so).
 """
 
 from __future__ import annotations
@@ -15,15 +14,17 @@ import statistics
 import time
 
 
-def warm_medians(calls: dict, repeat: int) -> dict:
+def warm_medians(calls: dict, repeat: int, warm: bool = True) -> dict:
     """{name: median wall time [s]} of each zero-argument call of ``calls`` over ``repeat`` rounds.
 
     The value a call returns is dropped outside the timed interval (a user's result outlives the call).
+    ``warm`` False times each call's only run in the round (the bias described above, for comparison).
     """
     walls = {name: [] for name in calls}
     for _ in range(repeat):
         for name, call in calls.items():
-            call()
+            if warm:
+                call()
             t0 = time.perf_counter()
             out = call()
             walls[name].append(time.perf_counter() - t0)

@@ -3,9 +3,9 @@
 The benchmarks that compare the cost of several cases in one process (``physics``, ``physics_accuracy``,
 ``diagnose.speed --forms`` and ``--drivers``) time them here.  Rounds that run every case in turn let the
 machine's drift (20-50 % within minutes here) fall on every case alike.  Within a round each case runs
-twice and the second run is timed: the run after a large case pays for faulting in the memory that case
-gave back, which made the first case of every round, the ratios' denominator, the slowest, and the ratios
-to it too small (``python -m benchmarks.physics_accuracy --cold`` times the cases so).
+twice and the second run is timed: the run after a large case is slower (it finds the caches and the
+memory as that case left them), which made the first case of every round, the ratios' denominator, slower
+and the ratios to it too small (``python -m benchmarks.physics_accuracy --cold`` times the cases so).
 """
 
 from __future__ import annotations

@@ -201,20 +201,35 @@ def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs, ys, cst):
         for k in range(nb):  # x0 = [u; v] of the building, contiguous
             xs[k] = u[a + k]
             xs[nb + k] = v[a + k]
-        # the maps are row-major in flat arrays: each row's product is a dot product over unit-stride
-        # memory on unsigned subscripts (``_UNSIGNED`` in _linear.py: signed ones made numba's
-        # wraparound turn the vectorised loads into gathers)
+        # the maps are column-major in flat arrays: [u1; v1; a1] is a sum of their columns scaled by x0's
+        # entries and the ground's, four columns per pass over the rows (four independent products per
+        # row, where a dot product per row was one chain of dependent additions: the product alone 3 times
+        # as fast for a building of 11 DOFs, the soil pair's free flight 4-6 % faster), on unsigned subscripts (``_UNSIGNED`` in _linear.py: signed ones made
+        # numba's wraparound turn the vectorised loads into gathers)
+        n3 = np.uint64(3 * nb)
         unx, unm = np.uint64(nx), np.uint64(nm)
         ox, og = np.uint64(off_x[c]), np.uint64(off_g[c])
-        for r in range(np.uint64(3 * nb)):
-            s = 0.0
-            row = ox + r * unx
-            for k in range(unx):
-                s += phi[row + k] * xs[k]
-            row = og + r * unm
-            for m in range(unm):
-                s += G0[row + m] * gs[m] + G1[row + m] * gs[unm + m]
-            ys[r] = s
+        for r in range(n3):
+            ys[r] = 0.0
+        k = np.uint64(0)
+        while k + np.uint64(4) <= unx:
+            x0, x1, x2, x3 = xs[k], xs[k + np.uint64(1)], xs[k + np.uint64(2)], xs[k + np.uint64(3)]
+            c0 = ox + k * n3
+            c1, c2, c3 = c0 + n3, c0 + np.uint64(2) * n3, c0 + np.uint64(3) * n3
+            for r in range(n3):
+                ys[r] += phi[c0 + r] * x0 + phi[c1 + r] * x1 + phi[c2 + r] * x2 + phi[c3 + r] * x3
+            k += np.uint64(4)
+        while k < unx:
+            xk = xs[k]
+            c0 = ox + k * n3
+            for r in range(n3):
+                ys[r] += phi[c0 + r] * xk
+            k += np.uint64(1)
+        for m in range(unm):
+            g0m, g1m = gs[m], gs[unm + m]
+            c0 = og + m * n3
+            for r in range(n3):
+                ys[r] += G0[c0 + r] * g0m + G1[c0 + r] * g1m
         for r in range(nb):
             u1[a + r] = ys[r]
             v1[a + r] = ys[nb + r]

@@ -84,8 +84,8 @@ class Transition:
     Building c spans DOFs ``start[c]:start[c+1]`` (n_c DOFs, state 2 n_c = [u; v]).
     Its maps give the end-of-step displacements, velocities and relative accelerations
     [u1; v1; a1] (3 n_c rows) from x0 = [u0; v0] and the ground accelerations; they lie one
-    after the other, row-major, at ``off_x[c]`` (Phi, (3 n_c, 2 n_c)), ``off_g[c]`` (G0, G1:
-    (3 n_c, nm)) and ``off_e[c]`` (Egx: (2 nm, 2 n_c)).
+    after the other at ``off_x[c]`` (Phi, (3 n_c, 2 n_c), column-major), ``off_g[c]`` (G0, G1:
+    (3 n_c, nm), column-major) and ``off_e[c]`` (Egx: (2 nm, 2 n_c), row-major).
 
     Attributes
     ----------
@@ -209,7 +209,8 @@ def _transition(tab, matrices, start, dof_motion, nm, dt, scheme, beta, gamma, s
         ns = Rb.shape[1]  # per storey: its dm column then its d1 column (storey-major)
         Gq_t = np.stack([Gq[:, :ns].T, Gq[:, ns:].T], axis=1)  # (ns, 2, 3 nb)
         Egq_t = np.stack([Egq[:, :ns].T, Egq[:, ns:].T], axis=1)  # (ns, 2, 2 nm)
-        for lst, x in zip((phi, g0, g1, egx, gc, egc, gq, egq), (P, G0, G1, Egx, Gc.T, Egc.T, Gq_t, Egq_t)):
+        # (the maps column-major: the kernel sums their columns, ``_general_flight._free_flight_trial``)
+        for lst, x in zip((phi, g0, g1, egx, gc, egc, gq, egq), (P.T, G0.T, G1.T, Egx, Gc.T, Egc.T, Gq_t, Egq_t)):
             lst.append(np.ascontiguousarray(x).ravel())
         egg += Egg
         st_elem.extend(storeys[mine])

@@ -16,7 +16,12 @@ try:
 except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0.0.0+unknown"
 
+from ._memory import keep_freed_memory
 from .errors import InputError
+
+# a run's large arrays from memory the process already holds, not fresh pages (``_memory``: a fresh process's
+# simulate of a row with a foundation 0.81 of its time); SEISPOUND_KEEP_MEMORY=0 leaves glibc's defaults
+keep_freed_memory()
 
 # Public names load their modules on first use, so that the command line
 # (`seispound laws`, error paths) does not pay for numba and xarray up front.

@@ -746,7 +746,8 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
     final, shorts, left, polished, anchored = {}, {form: [] for form in forms}, {}, set(), {}
     screen = {}  # each form's best short fit: what the screen ranks
     short_fit = {}  # each form's best short fit and specs: its result where its polish is not needed
-    order = PolishOrder(screen, WITHIN, explained, ALTERNATIVES)
+    criterion = {}  # each form's best short fit's BIC at n_eff (less the terms every form shares): its siblings' order
+    order = PolishOrder(screen, WITHIN, explained, ALTERNATIVES, criterion if n_eff else None)
     origins = {}  # each form's best short fit from the nominal and from the recalibrated base values
     anchor_base = {}  # the base values (an ``origins`` key) a yielding form's anchored start stands on
     screened = False  # every short fit is in and the forms near the best were sent to be polished
@@ -807,6 +808,8 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
                                 anchor_base[form] = on_alt
                             origins[form].setdefault("anchor" if st in anchored[form] else on_alt, f)
                         screen[form] = fit.ne_mean_after
+                        if n_eff:
+                            criterion[form] = n_eff * math.log(max(_rss(fit), 1e-300)) + len(specs) * math.log(n_eff)
                         if fit.ne_mean_after < ne_base:
                             polish(form)
                 if kind == "polish":

@@ -43,6 +43,7 @@ import inspect
 from collections import namedtuple
 from types import FunctionType
 
+import numpy as np
 from seispound._jit import njit
 
 from . import _general as G
@@ -339,7 +340,7 @@ def general_kernel(linear, p, numbering, elements, state0, motion, init, setting
     cfg = (dt, beta, gamma, n_sub, rtol, max_iter, tangent, pT, lev_free, el_pred, p)
     model = Coupled(lin, load, elg, motion, cs, settings, cfg, ff, n_storeys, (es_lin0, rec0))
     energy = (e_in, 0.0, 0.0, 0.0)  # input, linear elements' and dampers' work, work on the storeys, contact [J]
-    G._output(0, True, st, ev[7], load, lin, elg, elem, ev[0], (es_lin0, rec0), energy, outs)
+    G._output(0, True, st, ev[7], load, lin, elg, elem, ev[0], (es_lin0, rec0), (energy, np.nan), outs)
     # lp: the step of A's band (none yet), K u + C v stale after free flight
     out = drive_coupled(model, work, (-1.0, False), (n_imp, m_act, n_comp), energy, outs, cat, stats)
     keep_alive(owners)

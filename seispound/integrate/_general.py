@@ -135,12 +135,15 @@ def _fly(step, t, cnt, energy, lp, model, work, outs, stats):
     if not (ff[0] and cnt[1] == model[8]):
         return False, step, t, energy, lp
     t_end = (step + 1) * dt
-    ok, energy = _free_flight(ff, (t_end, dt), motion, elg, lin, st, elem, ev, work[7], outs[5:], energy, stats)
+    # the kinetic energy at the step's start: the output row written last holds it (stored histories)
+    ke0 = outs[4][step, E_KINETIC] if settings[7] else np.nan
+    ok, energy, ke1 = _free_flight(ff, (t_end, dt), motion, elg, lin, st, elem, ev, work[7], outs[5:], (energy, ke0),
+                                   stats)
     if not ok:
         return False, step, t, energy, lp
     step += 1
     if settings[7]:
-        _output(step, False, st, ev[7], load, lin, elg, elem, ev[0], e0, energy, outs)
+        _output(step, False, st, ev[7], load, lin, elg, elem, ev[0], e0, (energy, ke1), outs)
     return True, step, t_end, energy, (lp[0], True)
 
 
@@ -190,7 +193,7 @@ def _close(step, energy, lp, model, work, outs):
         for q in range(ne_gap.size):
             if not ne_gap[q]:
                 ev[0][q] = _dot(elg[0], elg[1], q, st[0]) - elg[2][q]
-        _output(step, False, st, ev[7], load, lin, elg, elem, ev[0], e0, energy, outs)
+        _output(step, False, st, ev[7], load, lin, elg, elem, ev[0], e0, (energy, np.nan), outs)
     return energy, lp
 
 
@@ -413,14 +416,15 @@ def _output(k, first, st, g, load, lin, elg, elem, delta, e0, energy, outs):
     """Write output row k (``delta`` holds the storeys' deformations); the first call also starts the peaks.
 
     g: the ground accelerations per motion row; e0 = (the linear elements' strain energy, the storeys'
-    recoverable energy) at t = 0 [J]; energy = (input, linear work, storeys' work, contact work) [J].
+    recoverable energy) at t = 0 [J]; energy = ((input, linear work, storeys' work, contact work) [J], the
+    kinetic energy at the state [J] where the caller has it, else NaN).
     """
     u, v, a = st[0], st[1], st[2]
     dof_motion, dof_infl = load[1], load[2]
     ne_code, ne_par, ne_gap = elg[3], elg[4], elg[5]
     st_c, F = elem[0], elem[2]
     es_lin0, rec0 = e0
-    e_in, w_lin, w_hys, e_cont = energy
+    (e_in, w_lin, w_hys, e_cont), ke = energy
     out_u, out_v, out_a, out_f, out_e, umax, fmax = outs
     if first:
         for i in range(u.size):
@@ -440,7 +444,7 @@ def _output(k, first, st, g, load, lin, elg, elem, delta, e0, energy, outs):
             rec += material_energy(ne_code[q], ne_par, st_c, q, delta[q])
     es_lin = strain_energy(lin[4], lin[5], lin[6], u)
     out_e[k, E_INPUT] = e_in
-    out_e[k, E_KINETIC] = kinetic_energy(lin[0], lin[1], lin[2], lin[9], v)
+    out_e[k, E_KINETIC] = ke if ke == ke else kinetic_energy(lin[0], lin[1], lin[2], lin[9], v)
     out_e[k, E_STRAIN] = es_lin + rec
     out_e[k, E_DAMPING] = w_lin - (es_lin - es_lin0)
     out_e[k, E_CONTACT] = e_cont

@@ -40,13 +40,15 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
     converge (``_hysteretic_flight``).
 
     clock = (t_end, dt) [s]; the groups as ``_driver.general_kernel`` names them (st, elem, ev, fl: its work
-    arrays, ``_general_work``); peaks = (umax, fmax); energy = (input, linear elements' and dampers' work,
-    work on the storeys, contact work) [J].  Returns (accepted, energy): the elastic bilinear storeys' work
+    arrays, ``_general_work``); peaks = (umax, fmax); energy = ((input, linear elements' and dampers' work,
+    work on the storeys, contact work) [J], the kinetic energy at the step's start [J] or NaN: computed).
+    Returns (accepted, energy, the kinetic energy at the step's end [J]): the elastic bilinear storeys' work
     exactly (their force is linear in their deformation), the iterated storeys' (Bouc-Wen, yielding
     bilinear) along their path, the linear elements' from the balance, input = kinetic + the two, as nothing
     else acts (``transition.py``).  Not accepted, nothing but the trial arrays changed.
     """
     t_end, dt = clock
+    energy, ke0 = energy
     ag, moving, ne_ground = motion
     ne_code, ne_par, ne_gap = elg[3], elg[4], elg[5]
     u, v = st[0], st[1]
@@ -78,24 +80,25 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
         ok, de_bw, dwh = _hysteretic_flight(ff, elg[:5], (st_c, cst), (u1, v1, a1),
                                             xs[xs.size - 2 * g_t.size:], gk, dt, (rise, zs, itr, corr, dr))
         if not ok:
-            return False, energy
+            return False, energy, ke0
         de += de_bw
     for q in range(ne_gap.size):
         if ne_gap[q]:
             d1[q], r1[q] = _deformation_at(elg[0], elg[1], elg[2], q, u1, v1, gk, GU1)
     if _screen_elements(ne_gap, active, d0, r0, d1, r1, dt, False, -1, land_too)[1] >= 0:
-        return False, energy
+        return False, energy, ke0
     ok, dwh = _elastic_through(ff, elg, st_c, (u1, v1), (d1, r1), gk, dt, cst, (zs, itr, dr), dwh)
     if not ok:
-        return False, energy
-    dke = kinetic_energy(lin[0], lin[1], lin[2], lin[9], v1) - kinetic_energy(lin[0], lin[1], lin[2], lin[9], v)
+        return False, energy, ke0
+    ke1 = kinetic_energy(lin[0], lin[1], lin[2], lin[9], v1)
+    dke = ke1 - (ke0 if ke0 == ke0 else kinetic_energy(lin[0], lin[1], lin[2], lin[9], v))
     _flight_commit(ff, elg, st, elem, ev, fl, peaks, moving)
     stats[S_FREE_FLIGHT] += 1
     stats[S_ITERATIONS] += int(rise[rise.size - 1])  # the hysteretic terms' sweeps (0 without)
     stats[S_STEPS] += 1
     stats[S_DOF_STEPS] += u.size
     e_in, w_lin, w_hys, e_cont = energy
-    return True, (e_in + de, w_lin + (de - dke - dwh), w_hys + dwh, e_cont)
+    return True, (e_in + de, w_lin + (de - dke - dwh), w_hys + dwh, e_cont), ke1
 
 
 @njit(cache=True, inline="always")

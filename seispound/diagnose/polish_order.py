@@ -14,7 +14,7 @@ longer change what is named:
   ``benchmarks.diagnose.speed``'s yielding case the degrading form's short fit, 9 parameters, came out 0.08 %
   better than the Bouc-Wen form's, 4, or 0.9 % worse, as round-off in the integrator moved it; ranked ahead, it
   was polished beside the others' short fits although the Bouc-Wen form already explained the data, and the
-  diagnosis took 105 s instead of 60 s);
+  diagnosis took 104-115 s instead of 60 s);
 * **far forms**: a form whose short fit is more than WITHIN times the best short fit (polished only because it
   beat the recalibrated base), when a physics form within WITHIN explains the data.
 

@@ -207,8 +207,9 @@ def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs, ys, cst):
         # the maps are column-major in flat arrays: [u1; v1; a1] is a sum of their columns scaled by x0's
         # entries and the ground's, four columns per pass over the rows (four independent products per
         # row, where a dot product per row was one chain of dependent additions: the product alone 3 times
-        # as fast for a building of 11 DOFs, the soil pair's free flight 4-6 % faster), on unsigned subscripts (``_UNSIGNED`` in _linear.py: signed ones made
-        # numba's wraparound turn the vectorised loads into gathers)
+        # as fast for a building of 11 DOFs, the soil pair's free flight 4-6 % faster), on unsigned
+        # subscripts (``_UNSIGNED`` in _linear.py: signed ones made numba's wraparound turn the vectorised
+        # loads into gathers)
         n3 = np.uint64(3 * nb)
         unx, unm = np.uint64(nx), np.uint64(nm)
         ox, og = np.uint64(off_x[c]), np.uint64(off_g[c])

@@ -68,9 +68,8 @@ def main(argv=None) -> int:
     runs = {"kept": [], "defaults": []}
     for r in range(args.rounds):
         for setting in runs:
-            env = dict(os.environ, PYTHONPATH=str(REPO))
-            if setting == "defaults":
-                env["SEISPOUND_KEEP_MEMORY"] = "0"
+            # set either way: a caller's own SEISPOUND_KEEP_MEMORY must not turn the kept side into the defaults
+            env = dict(os.environ, PYTHONPATH=str(REPO), SEISPOUND_KEEP_MEMORY="0" if setting == "defaults" else "1")
             res = subprocess.run([sys.executable, "-m", "benchmarks.page_faults", "--child", "--repeat",
                                   str(args.repeat)], cwd=REPO, env=env, capture_output=True, text=True)
             if res.returncode != 0:

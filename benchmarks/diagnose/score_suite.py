@@ -12,7 +12,9 @@ interval, which stays inside [0, 1] and holds at small counts):
 * instrument faults found (the faulty channel reported);
 * the gap closed: (NE as given - NE after) / (NE as given - the noise's NE) >= 80 % in at least
   80 % of the effect cases (the noise's NE is the NE of the model that made the data);
-* quantities: each identified quantity of a named physics within 15 % of the generator's;
+* quantities: each identified quantity of a named physics within 15 % of the generator's; apart, the
+  same count over the quantities the report reads as measurements (not marked ``form_limited``: their
+  physics's fit within ``diagnose.api.FORM_LIMITED`` times the noise);
 * the Brier score of the probabilities: per case and hypothesis, the probability of a named
   physics (0 when it is not named) against whether it was concealed.
 """
@@ -77,6 +79,7 @@ def score(key: dict, results: dict) -> dict:
         closed[c] = (r["ne_before"] - r["ne_after"]) / gap if gap > 0 else float("nan")
     closing = sum(v >= 0.8 for v in closed.values())
     within, compared, rows = 0, 0, []
+    sound_within, sound = 0, 0
     for c in effect:
         for physics, qs in results[c].get("quantities", {}).items():
             if physics not in key[c]["labels"]:
@@ -88,7 +91,11 @@ def score(key: dict, results: dict) -> dict:
                 err = q["value"] / truth - 1.0
                 compared += 1
                 within += abs(err) <= 0.15
-                rows.append((c, q["name"], q["value"], truth, err))
+                limited = q.get("form_limited")
+                if not limited:
+                    sound += 1
+                    sound_within += abs(err) <= 0.15
+                rows.append((c, q["name"], q["value"], truth, err, limited))
     brier, nb = 0.0, 0
     for c in cases:
         for h in EFFECTS:
@@ -101,6 +108,7 @@ def score(key: dict, results: dict) -> dict:
             "false_alarm_interval": wilson(alarms, len(control)), "fault_cases": len(fault), "faults_found": found,
             "gap_closed_80": closing, "gap_interval": wilson(closing, len(effect)), "closed": closed,
             "quantities_within_15": within, "quantities_compared": compared, "quantity_rows": rows,
+            "measured_within_15": sound_within, "measured_compared": sound,
             "brier": brier / nb if nb else float("nan"), "brier_pairs": nb}
 
 
@@ -125,6 +133,8 @@ def markdown(key: dict, results: dict) -> str:
               f"- at least 80 % of the gap to the noise closed: {pct(s['gap_closed_80'], s['effect_cases'])}, "
               f"{iv(s['gap_interval'])}",
               f"- identified quantities within 15 %: {pct(s['quantities_within_15'], s['quantities_compared'])}",
+              f"- of them read as measurements (not marked form-limited): "
+              f"{pct(s['measured_within_15'], s['measured_compared'])} within 15 %",
               f"- Brier score of the probabilities: {s['brier']:.3f} over {s['brier_pairs']} (case, hypothesis) pairs",
               "", "| case | form | labels | named | NE as given | NE after | noise NE | gap closed | seconds |",
               "|---|---|---|---|---|---|---|---|---|"]
@@ -136,8 +146,10 @@ def markdown(key: dict, results: dict) -> str:
                      f"{r['ne_after']:.4f} | {r['noise_ne']:.4f} | {'-' if g is None else f'{100 * g:.0f} %'} | "
                      f"{r['seconds']:.0f} |")
     if s["quantity_rows"]:
-        lines += ["", "| case | quantity | recovered | generator | error |", "|---|---|---|---|---|"]
-        lines += [f"| {c} | {n} | {v:.4g} | {t:.4g} | {100 * e:+.1f} % |" for c, n, v, t, e in s["quantity_rows"]]
+        lines += ["", "| case | quantity | recovered | generator | error | form-limited (x noise) |",
+                  "|---|---|---|---|---|---|"]
+        lines += [f"| {c} | {n} | {v:.4g} | {t:.4g} | {100 * e:+.1f} % | {f'{lim:.1f}' if lim else '-'} |"
+                  for c, n, v, t, e, lim in s["quantity_rows"]]
     return "\n".join(lines)
 
 

@@ -56,6 +56,7 @@ CANDIDATES_ALL = {**HYPOTHESES, **ALTERNATIVES}  # what the search fits: the phy
 BIC_MARGIN = 10.0  # "very strong" evidence on Kass & Raftery's (1995) scale
 NE_GAIN = 0.1  # the mean NE must fall by at least a tenth
 EXPLAINED = 1.5  # a recalibrated misfit within this factor of the noise's NE leaves no physics to find
+FORM_LIMITED = 2.0  # a named physics whose fit stays above this factor of the noise: its quantities are its form's
 SECOND = 2.0  # a second physics is sought only above this factor: the first's fit, near the noise, also carries
 # the difference between two correct solvers (a delayed input: 2.3 % NE, tests/diagnose/test_generator_twin.py),
 # which a flexible second hypothesis would soak up
@@ -107,6 +108,9 @@ class Diagnosis:
         for item in self.left_out:
             lines.append(f"  left out: {item['physics']} ({item['share']:.0%} of the improvement, probability "
                          f"{item['probability']:.2f} among the models fitted): {item['evidence']}")
+            if item.get("form_limited"):
+                lines.append(f"    its fit leaves {item['form_limited']:.1f} times the noise: the quantities below are "
+                             "the closest its form comes, biased by what the form lacks, beyond their intervals")
             for q in item.get("quantities", []):
                 lines.append(f"    {q['name']}: {_interval(q)}")
             if item.get("caveat"):
@@ -640,6 +644,7 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
         say(f"no fitted model beats the model as given (NE {ne_before:.4f} against {ne_after:.4f}): it is kept")
         text, ne_after, left_out, wrong = model.text, ne_before, [], []
         ne_final = {t.name: dict(nes0[k]) for k, t in enumerate(trial_list)}
+    _mark_form_limited(left_out, [st for st in steps if st.name in HYPOTHESES], trial_list, chans, fault)
     noise_used = noise_ne if fault is None else fault["noise_ne_others"]
     verdict = _verdict(ne_after, noise_used, left_out, kept_as_given, fault, mismatch, wrong)
     say(verdict)
@@ -1334,6 +1339,30 @@ def _left_out(steps, base_fit, n_eff, signature, reach_of=None) -> list:
     return out
 
 
+def _mark_form_limited(left_out, named, trial_list, chans, fault) -> None:
+    """Mark the quantities of each named physics whose own fit leaves the misfit above FORM_LIMITED times the noise.
+
+    A quantity's interval (``quantities``) treats the residual as noise about a model of the right form.
+    Where the fitted model stays well above the noise, what remains is misfit of the form itself, which
+    the parameters partly absorb: their values are then the closest the library's form can come, biased
+    by an amount their standard errors do not contain.  Each such entry gets ``form_limited`` (its fit's
+    mean NE over the channels, a suspected faulty channel left out, over their noise's) and keeps its value
+    and interval, which the report prints as the form's, not a measurement.  left_out and named (the
+    accepted physics' steps) are in the same order; fault: ``_instrument_fault``'s finding or None.
+    """
+    skip = fault["channel"] if fault else None
+    ids = [c.id for c in chans if c.id != skip]
+    noise = float(np.mean([_noise_ne(t, cid) for t in trial_list for cid in ids]))
+    for item, st in zip(left_out, named):
+        ratio = float(np.mean([st.fit.ne_after[t.name][cid] for t in trial_list for cid in ids])) / noise
+        if ratio <= FORM_LIMITED:
+            continue
+        item["form_limited"] = round(ratio, 2)
+        for q in item["quantities"]:
+            if q.get("stderr") is not None:
+                q["form_limited"] = round(ratio, 2)
+
+
 FAULT_SHARE = 0.5  # a channel holding at least this share of the residual is a candidate instrument fault
 FAULT_RATIO = 3.0  # ... if no candidate brings it within this many times its noise's NE
 
@@ -1408,10 +1437,12 @@ def _interval(q) -> str:
     if q.get("stderr") is None:
         return f"{q['value']:.4g} {q['units']} (not identified: {q.get('reason', 'the data do not constrain it')})"
     half, dof = q.get("half68", q["stderr"]), q.get("dof", math.inf)
+    limited = (f"; the form's value, not a measurement: its fit leaves {q['form_limited']:.1f} times the noise"
+               if q.get("form_limited") else "")
     if not math.isfinite(dof):
-        return f"{q['value']:.4g} +- {q['stderr']:.2g} {q['units']} (one standard error)"
+        return f"{q['value']:.4g} +- {q['stderr']:.2g} {q['units']} (one standard error{limited})"
     return (f"{q['value']:.4g} +- {half:.2g} {q['units']} (68 % interval; standard error {q['stderr']:.2g}, "
-            f"{dof:.1f} degrees of freedom)")
+            f"{dof:.1f} degrees of freedom{limited})")
 
 
 def _rss(fit) -> float:

@@ -21,6 +21,8 @@
 5. Two effects: above SECOND times the noise, the others fitted on top of the first physics and judged
    against it.  When none is accepted alone, the best that beats the base and the wrong-parameter
    alternatives by BIC is taken on trial, and named only with a second physics accepted on top of it.
+6. Each named physics in physical terms (``quantities.py``); where its own fit stays above FORM_LIMITED
+   times the noise, its quantities are marked as its form's values, not measurements (``_mark_form_limited``).
 """
 
 from __future__ import annotations

@@ -112,7 +112,7 @@ class Diagnosis:
                          f"{item['probability']:.2f} among the models fitted): {item['evidence']}")
             if item.get("form_limited"):
                 lines.append(f"    its fit leaves {item['form_limited']:.1f} times the noise: the quantities below are "
-                             "the closest its form comes, biased by what the form lacks, beyond their intervals")
+                             "the closest its form comes, and what the form lacks may bias them beyond their intervals")
             for q in item.get("quantities", []):
                 lines.append(f"    {q['name']}: {_interval(q)}")
             if item.get("caveat"):
@@ -1349,7 +1349,7 @@ def _mark_form_limited(left_out, named, trial_list, chans, fault) -> None:
     the parameters partly absorb: their values are then the closest the library's form can come, biased
     by an amount their standard errors do not contain.  Each such entry gets ``form_limited`` (its fit's
     mean NE over the channels, a suspected faulty channel left out, over their noise's) and keeps its value
-    and interval, which the report prints as the form's, not a measurement.  left_out and named (the
+    and interval, which the report prints as the form's value.  left_out and named (the
     accepted physics' steps) are in the same order; fault: ``_instrument_fault``'s finding or None.
     """
     skip = fault["channel"] if fault else None
@@ -1439,7 +1439,7 @@ def _interval(q) -> str:
     if q.get("stderr") is None:
         return f"{q['value']:.4g} {q['units']} (not identified: {q.get('reason', 'the data do not constrain it')})"
     half, dof = q.get("half68", q["stderr"]), q.get("dof", math.inf)
-    limited = (f"; the form's value, not a measurement: its fit leaves {q['form_limited']:.1f} times the noise"
+    limited = (f"; its form's value: the fit leaves {q['form_limited']:.1f} times the noise"
                if q.get("form_limited") else "")
     if not math.isfinite(dof):
         return f"{q['value']:.4g} +- {q['stderr']:.2g} {q['units']} (one standard error{limited})"

@@ -77,10 +77,10 @@ def test_each_physics_is_judged_by_its_own_fit():
 
 def test_the_report_says_a_marked_value_is_the_forms():
     q = dict(_item()["quantities"][0])
-    assert "not a measurement" not in _interval(q)
+    assert "its form's value" not in _interval(q)
     q["form_limited"] = 6.0
     text = _interval(q)
-    assert "the form's value, not a measurement: its fit leaves 6.0 times the noise" in text
+    assert "its form's value: the fit leaves 6.0 times the noise" in text
     assert text.startswith("0.012 +- 0.0004 m (68 % interval")
     summary = api.Diagnosis.summary(SimpleNamespace(
         seconds=1.0, ne_before=0.5, ne_after=0.06, numerics={"ne": 0.001, "sufficient": True}, wrong_parameters=[],

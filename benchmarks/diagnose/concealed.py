@@ -53,6 +53,8 @@ def markdown(rows) -> str:
             for q in qs:
                 val = (f"{q['value']:.4g} +- {q['stderr']:.2g} {q['units']}" if q.get("stderr") is not None
                        else f"{q['value']:.4g} {q['units']} (not identified: {q.get('reason')})")
+                if q.get("form_limited"):
+                    val += f" (its form's value: the fit leaves {q['form_limited']:.1f} times the noise)"
                 lines.append(f"  - {n}: {q['name']}: {val}")
     return "\n".join(lines)
 

@@ -194,7 +194,8 @@ class CalibrationResult:
         if math.isfinite(self.noise_ne) and self.ne_mean_after > FAR * noise:
             lines.append(f"  the fit ends {self.ne_mean_after / noise:.1f} times above what the sensor noise "
                          f"leaves (NE {self.noise_ne:.4f}): the model cannot reproduce the recordings with these "
-                         "parameters (seispound diagnose says where and why)")
+                         "parameters (seispound diagnose says where and why); the values below are the closest "
+                         "this model comes, and their intervals hold for a model of the right form only")
         lines.append(f"  {'parameter':40s} {'start':>12s} {'fitted':>12s} {'std. error':>11s} {'68 % +-':>11s} "
                      f"{'dof':>5s}")
         for path, p in self.parameters.items():

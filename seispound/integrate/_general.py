@@ -52,7 +52,8 @@ import numpy as np
 from seispound._jit import njit
 
 from ._contact import _begin_impact, _contact_step, _end_impact, _grid_level, _group_contacts, _peak_through
-from ._elements import _deformation, _deformation_at, _dot, kinetic_energy, linear_forces, strain_energy
+from ._elements import (_deformation, _deformation_at, _dot, _scatter, kinetic_energy, linear_forces, mass_times,
+                        strain_energy)
 from ._events import ACCEPT, AT_ONCE, FAILED, LAND_TOL, REDO, _event_in_step, _landed, _screen_elements
 from ._general_flight import _free_flight
 from ._general_solve import N_LEVELS, _acceleration, _cached_factor, _factor_cache, _predictor, _solve_groups
@@ -386,7 +387,13 @@ def _accept(h, coef, lin, load, elg, acts, grd, st, elem, peaks, energy):
         v[i] = Vv[i] + cc * Du[i]
         a[i] = Av[i] + cm * Du[i]
         umax[i] = max(umax[i], abs(u[i]))
-    linear_forces(lin[8], u, v, flin1)
+    # K u1 + C v1 (read only by the energy) from equilibrium at the step's end, M a1 + K u1 + C v1 + B F1 = p1,
+    # which the solve holds to round-off: products with M and the active elements instead of with K and C
+    mass_times(lin[0], lin[1], lin[2], lin[9], a, flin1)
+    for i in range(u.size):
+        flin1[i] = -dof_load[i] * g1[dof_motion[i]] - flin1[i]
+    for k in range(m_act):
+        _scatter(ne_dof, ne_coef, act[k], -F1[act[k]], flin1)
     for i in range(u.size):
         w_lin += 0.5 * (flin[i] + flin1[i]) * Du[i]
         flin[i] = flin1[i]

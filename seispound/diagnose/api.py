@@ -646,8 +646,8 @@ def diagnose(model, recordings=None, *, channels, trials=None, report=None, outp
         say(f"no fitted model beats the model as given (NE {ne_before:.4f} against {ne_after:.4f}): it is kept")
         text, ne_after, left_out, wrong = model.text, ne_before, [], []
         ne_final = {t.name: dict(nes0[k]) for k, t in enumerate(trial_list)}
-    _mark_form_limited(left_out, [st for st in steps if st.name in HYPOTHESES], trial_list, chans, fault)
     noise_used = noise_ne if fault is None else fault["noise_ne_others"]
+    _mark_form_limited(left_out, [st for st in steps if st.name in HYPOTHESES], trial_list, chans, fault, noise_used)
     verdict = _verdict(ne_after, noise_used, left_out, kept_as_given, fault, mismatch, wrong)
     say(verdict)
     written = None
@@ -1341,7 +1341,7 @@ def _left_out(steps, base_fit, n_eff, signature, reach_of=None) -> list:
     return out
 
 
-def _mark_form_limited(left_out, named, trial_list, chans, fault) -> None:
+def _mark_form_limited(left_out, named, trial_list, chans, fault, noise) -> None:
     """Mark the quantities of each named physics whose own fit leaves the misfit above FORM_LIMITED times the noise.
 
     A quantity's interval (``quantities``) treats the residual as noise about a model of the right form.
@@ -1350,11 +1350,11 @@ def _mark_form_limited(left_out, named, trial_list, chans, fault) -> None:
     by an amount their standard errors do not contain.  Each such entry gets ``form_limited`` (its fit's
     mean NE over the channels, a suspected faulty channel left out, over their noise's) and keeps its value
     and interval, which the report prints as the form's value.  left_out and named (the
-    accepted physics' steps) are in the same order; fault: ``_instrument_fault``'s finding or None.
+    accepted physics' steps) are in the same order; fault: ``_instrument_fault``'s finding or None; noise: the
+    noise's NE over the same channels (``diagnose``'s, or the fault's ``noise_ne_others``).
     """
     skip = fault["channel"] if fault else None
     ids = [c.id for c in chans if c.id != skip]
-    noise = float(np.mean([_noise_ne(t, cid) for t in trial_list for cid in ids]))
     for item, st in zip(left_out, named):
         ratio = float(np.mean([st.fit.ne_after[t.name][cid] for t in trial_list for cid in ids])) / noise
         if ratio <= FORM_LIMITED:

@@ -37,16 +37,11 @@ def _step(ne):
     return SimpleNamespace(fit=SimpleNamespace(ne_after={t.name: dict(ne) for t in _trials()}))
 
 
-@pytest.fixture(autouse=True)
-def _noise(monkeypatch):
-    monkeypatch.setattr(api, "_noise_ne", lambda trial, cid: NOISE)
-
-
 @pytest.mark.parametrize("ratio, marked", [(1.8, False), (FORM_LIMITED * 0.99, False), (FORM_LIMITED * 1.01, True),
                                            (6.0, True)])
 def test_a_physics_is_marked_only_above_the_factor(ratio, marked):
     item = _item()
-    _mark_form_limited([item], [_step({"a": ratio * NOISE, "b": ratio * NOISE})], _trials(), _chans("a", "b"), None)
+    _mark_form_limited([item], [_step({"a": ratio * NOISE, "b": ratio * NOISE})], _trials(), _chans("a", "b"), None, NOISE)
     assert ("form_limited" in item) is marked
     assert ("form_limited" in item["quantities"][0]) is marked
     if marked:
@@ -56,14 +51,14 @@ def test_a_physics_is_marked_only_above_the_factor(ratio, marked):
 
 
 def test_a_suspected_faulty_channel_is_left_out_of_the_ratio():
-    """The others at 1.2 times the noise, the faulty one at 40: marked at (1.2 + 40) / 2 = 20.6 without the fault
-    found, not marked with it."""
+    """The others at 1.2 times the noise, the faulty one at 40: marked at (1.2 + 1.2 + 40) / 3 = 14.1 without the
+    fault found, not marked with it."""
     ne = {"a": 1.2 * NOISE, "b": 1.2 * NOISE, "bad": 40 * NOISE}
     item = _item()
-    _mark_form_limited([item], [_step(ne)], _trials(), _chans("a", "b", "bad"), None)
+    _mark_form_limited([item], [_step(ne)], _trials(), _chans("a", "b", "bad"), None, NOISE)
     assert item["form_limited"] == pytest.approx((1.2 + 1.2 + 40) / 3, abs=0.01)
     item = _item()
-    _mark_form_limited([item], [_step(ne)], _trials(), _chans("a", "b", "bad"), {"channel": "bad"})
+    _mark_form_limited([item], [_step(ne)], _trials(), _chans("a", "b", "bad"), {"channel": "bad"}, NOISE)
     assert "form_limited" not in item
 
 
@@ -71,7 +66,7 @@ def test_each_physics_is_judged_by_its_own_fit():
     """Two named physics: the first's fit (before the second was added) at 5 times the noise, the second's at 1.1."""
     first, second = _item(), _item()
     _mark_form_limited([first, second], [_step({"a": 5 * NOISE}), _step({"a": 1.1 * NOISE})], _trials(),
-                       _chans("a"), None)
+                       _chans("a"), None, NOISE)
     assert first["form_limited"] == pytest.approx(5.0) and "form_limited" not in second
 
 

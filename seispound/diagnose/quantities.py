@@ -22,7 +22,7 @@ Quantities (units in each entry):
   of the rod floor as modelled), the axial damping ratio; or, for a body on a compliant joint,
   the body's mass and its natural frequency on the joint;
 * inelastic-storey: each building's yield drift, the post-yield stiffness ratio (and Bouc-Wen's
-  exponent); a yield drift larger than every storey deformation of the fitted run is not identified
+  exponent, or a peak-oriented law's unloading exponent and pinching); a yield drift larger than every storey deformation of the fitted run is not identified
   (a Bouc-Wen or degrading storey departs from linearity below it, and the fit reads that, not the yield);
 * velocity-dependent-restitution: e at impact velocities of 0.1 and 0.5 m/s, and the change of e
   between them (the velocity dependence itself, marked ``defining``);
@@ -228,10 +228,14 @@ def _yielding(fit, data, reach=None):
             name = path.split(".")[1]
             q = _delta(fit, f"{name}: yield drift", "m", lambda x, p=path: x[p], [path], defining=True)
             out.append(_beyond_reach(q, name, reach))
+    laws = {(b.get("storey_law") or {}).get("kind") for b in data.get("building", [])}
+    pinch = ("pinching severity s (Roufaiel & Meyer): reloading aims first at 1 - s of its target force"
+             if "peak-oriented" in laws else "pinching severity zeta_s (Baber & Noori)")
     for key, what in (("post_yield_ratio", "post-yield stiffness ratio"), ("n", "Bouc-Wen exponent"),
+                      ("unloading_exponent", "unloading stiffness exponent beta_u, k (dy / d_max)^beta_u (Otani)"),
                       ("strength_degradation", "strength degradation rate delta_nu (Baber & Wen)"),
                       ("stiffness_degradation", "stiffness degradation rate delta_eta (Baber & Wen)"),
-                      ("pinching", "pinching severity zeta_s (Baber & Noori)"),
+                      ("pinching", pinch),
                       ("pinching_rate", "pinching growth rate p with the hysteretic energy (Foliente)"),
                       ("pinching_width", "pinching width over the yield drift psi (Foliente)")):
         path = f"building.*.storey_law.{key}"

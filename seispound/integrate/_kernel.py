@@ -105,7 +105,7 @@ from ._linear import (
     _subtract_contact,
     _woodbury_columns,
 )
-from ._material import N_STATE, ST_ZETA
+from ._material import N_CONTACT_STATE, ST_ZETA
 from ._multirate import _gap_state, _join, _runs, _stepping, _waiting_commit, _waiting_step, _who_steps
 from ._newmark_step import _accept_rows, _newmark_predictor
 from ._newton import _newton
@@ -186,7 +186,7 @@ def _fast_work(n, nm, p, settings, modal, multi, gaps, init):
     nwt = (np.empty((ngw, ngw)), np.empty(ngw), np.empty(ngw), np.empty(ngw), np.empty(ngw), np.zeros(ng),
            np.empty((ngw, ngw)), np.empty(ngw))
     lists = (np.empty(ngw, np.int64), np.empty(ngw + 1, np.int64), np.empty(ngw, np.int64), np.empty(ngw, np.int64))
-    cs = (np.zeros(ng, np.bool_), np.zeros((ng, N_STATE)), np.zeros((ng, N_STATE)), np.zeros(ng),
+    cs = (np.zeros(ng, np.bool_), np.zeros((ng, N_CONTACT_STATE)), np.zeros((ng, N_CONTACT_STATE)), np.zeros(ng),
           np.zeros(ng, np.int64), -np.ones(ng, np.int64))
     gf = (np.zeros(ng), np.zeros(ng), np.zeros(ng), np.ones(ng))
     ev = (np.empty(ng), np.empty(ng), np.empty(ng), np.empty(ng), np.zeros((4, ng)), np.empty(nm), np.empty(nm))

@@ -25,8 +25,8 @@ calls the law twice per element and step.
 
 State rows have N_STATE entries.  Contact laws (codes of ``contact.codes``)
 keep (zeta, e) set at onset and do not change within an impact.  Hysteretic
-storey laws: BILINEAR (kinematic hardening) and BOUC_WEN (smooth, Bouc 1967,
-Wen 1976).  Both drivers call every law through this protocol (``_contact._begin_impact``
+storey laws: BILINEAR (kinematic hardening), BOUC_WEN (smooth, Bouc 1967,
+Wen 1976) and PEAK_ORIENTED (stiffness degrading, ``_peak_oriented``).  Both drivers call every law through this protocol (``_contact._begin_impact``
 for the onset, ``_newton`` for the trials).  Free flight with
 Bouc-Wen storeys (``_general_flight._hysteretic_flight``) carries z along a step's path
 with ``bouc_wen_path`` and commits the state it reached.
@@ -42,18 +42,24 @@ from ..contact._scalar import law_force, onset_state
 from ._events import _hermite
 from ..contact.codes import P_EXPONENT, P_K, P_MEFF, P_TENSION
 
-# state columns: contact laws
+# state columns: contact laws (the fast driver, which holds no other law, keeps only these)
 ST_ZETA, ST_E = 0, 1
+N_CONTACT_STATE = 2
 # state columns: BILINEAR (plastic deformation [m], hysteretic force [N])
 ST_PLASTIC, ST_Q = 0, 1
 # state columns: BOUC_WEN (hysteretic displacement z [m], the committed deformation [m], the hysteretic
 # energy measure eps = integral of z d(delta) / dy^2 [-] that degradation grows with)
 ST_Z, ST_DELTA, ST_EPS = 0, 1, 2
-N_STATE = 3
+# state columns: PEAK_ORIENTED (force [N], drift [m], the largest positive and negative excursions [m]:
+# ``_peak_oriented``)
+N_STATE = 4
 
 # codes of history-carrying laws (beyond the contact codes, which stay below 20) and their parameter columns
 from ..storey.codes import (B_ALPHA, B_FY, B_K, BILINEAR, BOUC_WEN, BW_ALPHA, BW_BETA,  # noqa: E402, F401
-                            BW_DETA, BW_DNU, BW_DY, BW_GAMMA, BW_K, BW_N, BW_PINCH, BW_PINCH_RATE, BW_PINCH_WIDTH)
+                            BW_DETA, BW_DNU, BW_DY, BW_GAMMA, BW_K, BW_N, BW_PINCH, BW_PINCH_RATE, BW_PINCH_WIDTH,
+                            PEAK_ORIENTED, PO_ALPHA, PO_FY, PO_K, PO_PINCH, PO_UNLOAD)
+from ._peak_oriented import (ST_D, ST_DNEG, ST_DPOS, ST_F, peak_oriented_energy,  # noqa: E402
+                             peak_oriented_move)
 # a Bouc-Wen trial integrates z over sub-increments of at most this fraction of dy (trapezoidal rule each)
 BW_SUBINCREMENT = 0.02
 BW_MAX_SUB = 256
@@ -97,8 +103,29 @@ def material_trial(code, par, committed, trial, q, delta, rate):
         return alpha * k * delta + (1.0 - alpha) * hq, kt, 0.0
     if code == BOUC_WEN:
         return _bouc_wen_trial(par, committed, trial, q, delta)
+    if code == PEAK_ORIENTED:
+        return _peak_oriented_trial(par, committed, trial, q, delta, rate)
     return law_force(code, par[q, P_K], par[q, P_EXPONENT], par[q, P_MEFF], par[q, P_TENSION], delta, rate,
                      committed[q, ST_ZETA])
+
+
+@njit(cache=True, inline="always")
+def _peak_oriented_par(par, q):
+    """(k, fy, alpha, beta_u, pinching) of peak-oriented storey q (``storey.codes`` PO_ columns)."""
+    return par[q, PO_K], par[q, PO_FY], par[q, PO_ALPHA], par[q, PO_UNLOAD], par[q, PO_PINCH]
+
+
+@njit(cache=True)  # not inlined: the driver's trial phase inlines the law protocol, and this law is long
+def _peak_oriented_trial(par, committed, trial, q, delta, rate):
+    """PEAK_ORIENTED: the committed point moved to delta along the law's branches (``_peak_oriented``); an
+    excursion column of 0 is the yield drift (the virgin storey)."""
+    pq = _peak_oriented_par(par, q)
+    dy = pq[1] / pq[0]
+    f, kt, dpos, dneg = peak_oriented_move(pq, committed[q, ST_D], committed[q, ST_F],
+                                           max(committed[q, ST_DPOS], dy), min(committed[q, ST_DNEG], -dy),
+                                           delta, rate)
+    trial[q, ST_F], trial[q, ST_D], trial[q, ST_DPOS], trial[q, ST_DNEG] = f, delta, dpos, dneg
+    return f, kt, 0.0
 
 
 @njit(cache=True, inline="always")
@@ -553,6 +580,10 @@ def material_energy(code, par, state, q, delta):
             u = z2 / (width * width)
             z2 = width * width * (u + np.log1p(-pinch * np.exp(-u)) - np.log1p(-pinch))
         return 0.5 * par[q, BW_ALPHA] * k * delta * delta + 0.5 * (1.0 - par[q, BW_ALPHA]) * k * eta * z2
+    if code == PEAK_ORIENTED:
+        pq = _peak_oriented_par(par, q)
+        dy = pq[1] / pq[0]
+        return peak_oriented_energy(pq, state[q, ST_F], max(state[q, ST_DPOS], dy), min(state[q, ST_DNEG], -dy))
     return 0.0
 
 

@@ -8,6 +8,7 @@ families go through one material protocol in the kernel (``integrate._material``
 LINEAR = 0  # an elastic storey (a linear spring of the linear part)
 BILINEAR = 20  # kinematic hardening
 BOUC_WEN = 21  # smooth hysteresis (Bouc 1967, Wen 1976)
+PEAK_ORIENTED = 22  # stiffness-degrading, peak-oriented (Clough & Johnston 1966; Takeda, Sozen & Nielsen 1970)
 
 # parameter columns of BILINEAR: initial stiffness k [N/m], yield force fy [N], post-yield ratio alpha [-]
 B_K, B_FY, B_ALPHA = 0, 1, 2
@@ -17,6 +18,10 @@ B_K, B_FY, B_ALPHA = 0, 1, 2
 # psi [-] (Baber & Noori 1985; Foliente 1995)
 BW_K, BW_DY, BW_ALPHA, BW_N, BW_BETA, BW_GAMMA, BW_DNU, BW_DETA = 0, 1, 2, 3, 4, 5, 6, 7
 BW_PINCH, BW_PINCH_RATE, BW_PINCH_WIDTH = 8, 9, 10
+# parameter columns of PEAK_ORIENTED: k [N/m], yield force fy [N], post-yield ratio alpha [-], the unloading
+# stiffness's exponent beta_u [-] (Otani 1974: k_u = k (dy / d_m)^beta_u) and the pinching severity [-]
+# (reloading first aims at (1 - pinching) times its target force)
+PO_K, PO_FY, PO_ALPHA, PO_UNLOAD, PO_PINCH = 0, 1, 2, 3, 4
 N_STOREY_PAR = 11
 
-NAMES = {"elastic": LINEAR, "bilinear": BILINEAR, "bouc-wen": BOUC_WEN}
+NAMES = {"elastic": LINEAR, "bilinear": BILINEAR, "bouc-wen": BOUC_WEN, "peak-oriented": PEAK_ORIENTED}

@@ -1,4 +1,4 @@
-"""Hysteretic storey laws: bilinear with kinematic hardening, and Bouc-Wen."""
+"""Hysteretic storey laws: bilinear with kinematic hardening, Bouc-Wen, and peak-oriented (Clough, Takeda)."""
 
 from __future__ import annotations
 
@@ -24,12 +24,18 @@ class StoreyLaw:
 
     Parameters
     ----------
-    kind : {"elastic", "bilinear", "bouc-wen"}
+    kind : {"elastic", "bilinear", "bouc-wen", "peak-oriented"}
         "bilinear": kinematic hardening, F = alpha k d + (1 - alpha) q,
         |q| <= fy (Simo & Hughes 1998, Sec. 1.4); "bouc-wen":
         F = alpha k d + (1 - alpha) k z with dz/dt = d'(t) (1 - |z/dy|^n
         (beta sgn(d' z) + gamma)) (Wen 1976, J. Eng. Mech. Div. 102(2),
-        249-263, with A = 1), k the storey's ``storey_stiffness``.
+        249-263, with A = 1); "peak-oriented": the stiffness-degrading law of
+        reinforced-concrete storeys, a bilinear backbone, unloading at
+        k (dy / d_m)^unloading_exponent and reloading aimed at the largest
+        excursion on the side it moves to (Clough & Johnston 1966; Takeda,
+        Sozen & Nielsen 1970, with Otani's 1974 unloading), optionally
+        pinched (the rules: ``seispound.integrate._peak_oriented``); k the
+        storey's ``storey_stiffness``.
     yield_drift : float or list, [m]
         dy; or give ``yield_force`` fy [N] (dy = fy / k).  Exactly one of the two.
     yield_force : float or list, [N]
@@ -47,6 +53,13 @@ class StoreyLaw:
         no degradation); strength and stiffness degrade as nu = 1 + delta_nu eps,
         eta = 1 + delta_eta eps with the hysteretic energy eps = integral of z
         d(drift) / dy^2 (about 4 mu per full cycle at ductility mu).
+    unloading_exponent : float, [-]
+        Peak-oriented only: beta_u in [0, 2] (default 0: Clough's law, unloading at
+        k; Otani gives 0.3-0.5 for Takeda's).
+    pinching : float, [-]
+        Peak-oriented: the severity s in [0, 1) of the pinch, reloading first
+        aims at (1 - s) times its target force on the target side's unloading
+        line (Roufaiel & Meyer 1987); default 0, none.  Bouc-Wen: below.
     pinching, pinching_rate, pinching_width : float, [-]
         Bouc-Wen only: the loop pinches near zero force as in Baber & Noori (1985,
         J. Eng. Mech. 111(8), 1010-1026) and Foliente (1995, J. Struct. Eng. 121(6),
@@ -66,6 +79,7 @@ class StoreyLaw:
     gamma: float = 0.5
     strength_degradation: float = 0.0
     stiffness_degradation: float = 0.0
+    unloading_exponent: float = 0.0
     pinching: float = 0.0
     pinching_rate: float = 1.0
     pinching_width: float = 0.2
@@ -123,8 +137,15 @@ class StoreyLaw:
             if not ok or not (lo <= v < hi if f == "pinching" else lo < v < hi):
                 raise InputError(f"must be a finite number in {'[0, 1)' if f == 'pinching' else '(0, inf)'}, "
                                  f"got {v!r}", key=f"{key}.{f}")
-        if self.pinching and self.kind != "bouc-wen":
-            raise InputError("pinching is a Bouc-Wen storey's (Baber & Noori 1985)", key=f"{key}.pinching")
+        if self.pinching and self.kind not in ("bouc-wen", "peak-oriented"):
+            raise InputError("pinching is a Bouc-Wen (Baber & Noori 1985) or peak-oriented storey's",
+                             key=f"{key}.pinching")
+        v = self.unloading_exponent
+        if not (isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and 0.0 <= v <= 2.0):
+            raise InputError(f"must be a finite number in [0, 2], got {v!r}", key=f"{key}.unloading_exponent")
+        if v and self.kind != "peak-oriented":
+            raise InputError("the unloading exponent is a peak-oriented storey's (Otani 1974)",
+                             key=f"{key}.unloading_exponent")
 
     def _per_storey(self, field, n_storeys, key, positive=False) -> np.ndarray:
         arr = number_array(getattr(self, field), f"{key}.{field}")
@@ -153,6 +174,9 @@ class StoreyLaw:
         alpha = self._per_storey("post_yield_ratio", k.size, "storey_law")
         if self.kind == "bilinear":
             par[:, C.B_K], par[:, C.B_FY], par[:, C.B_ALPHA] = k, k * dy, alpha
+        elif self.kind == "peak-oriented":
+            par[:, C.PO_K], par[:, C.PO_FY], par[:, C.PO_ALPHA] = k, k * dy, alpha
+            par[:, C.PO_UNLOAD], par[:, C.PO_PINCH] = self.unloading_exponent, self.pinching
         else:
             par[:, C.BW_K], par[:, C.BW_DY], par[:, C.BW_ALPHA] = k, dy, alpha
             par[:, C.BW_N], par[:, C.BW_BETA], par[:, C.BW_GAMMA] = self.n, self.beta, self.gamma

@@ -163,6 +163,8 @@ def _scaled(row, code, share):
     row = np.array(row, float)
     if code == C.BILINEAR:
         row[[C.B_K, C.B_FY]] *= share
+    elif code == C.PEAK_ORIENTED:
+        row[[C.PO_K, C.PO_FY]] *= share
     elif code == C.BOUC_WEN:
         row[C.BW_K] *= share
     return row

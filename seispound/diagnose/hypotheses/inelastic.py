@@ -1,4 +1,5 @@
-"""Inelastic storeys: bilinear, Bouc-Wen with a fitted exponent, and degrading, pinching Bouc-Wen hysteresis."""
+"""Inelastic storeys: bilinear, Bouc-Wen with a fitted exponent, degrading, pinching Bouc-Wen hysteresis, and the
+peak-oriented law of reinforced-concrete storeys (Clough, Takeda), optionally pinched."""
 
 from __future__ import annotations
 
@@ -51,7 +52,23 @@ def _degrading(d):
     return specs, null
 
 
+def _peak_oriented(d):
+    # stiffness-degrading, peak-oriented hysteresis (Clough & Johnston 1966; Takeda et al. 1970 with Otani's
+    # unloading stiffness), pinched as Roufaiel & Meyer (1987): a yield drift per building; the post-yield ratio,
+    # the unloading exponent and the pinching one value for the row (null: never yields; Clough, no pinch)
+    specs = ["building.*.storey_law.post_yield_ratio=0.005:0.5", "building.*.storey_law.unloading_exponent=0:1",
+             "building.*.storey_law.pinching=0:0.9"]
+    null = {"building.*.storey_law.post_yield_ratio": 0.05, "building.*.storey_law.unloading_exponent": 0.0,
+            "building.*.storey_law.pinching": 0.0}
+    for b in d["building"]:
+        b["storey_law"] = {"kind": "peak-oriented", "yield_drift": 0.02, "post_yield_ratio": 0.05,
+                           "unloading_exponent": 0.0, "pinching": 0.0}
+        specs.append(f"building.{b['name']}.storey_law.yield_drift=0.0005:5")
+        null[f"building.{b['name']}.storey_law.yield_drift"] = 5.0
+    return specs, null
+
+
 HYPOTHESIS = Hypothesis(
     "inelastic-storey", "storeys that yield",
     "residual that grows after the strongest shaking, with a permanent drift in the roof displacement",
-    forms=(_bouc_wen, _bilinear, _degrading), why_not=needs_buildings)
+    forms=(_bouc_wen, _bilinear, _degrading, _peak_oriented), why_not=needs_buildings)

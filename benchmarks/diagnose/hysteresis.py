@@ -1,7 +1,10 @@
 """Degrading storey hysteresis for the held-out generator (``outside.py``): Takeda / Clough with optional pinching.
 
-Independent of the package (NumPy only).  A storey's force-drift law, NOT one of the library's
-(bilinear kinematic, Bouc-Wen):
+Independent of the package (NumPy only).  The package's hypothesis library now holds a peak-oriented law of
+this kind (Clough / Takeda, optional pinching), so the outside suite's default draw conceals yielding
+storeys with the other laws of the generator, ``flag.py`` (flag-shaped, self-centring) and ``masing.py``
+(Ramberg-Osgood with Masing's rules); the forms "takeda", "clough-pinched", "rocking-cone+takeda" and
+"stratum+clough-pinched" that use this law are still made with ``--forms``.  The law:
 
 * **Backbone**: bilinear, elastic stiffness ``k0`` up to the yield drift ``dy`` (force Fy = k0 dy),
   then ``alpha * k0``; symmetric.

@@ -12,9 +12,13 @@ damping are those of the fixed-base structure written in q: ``K = B^T K_s B``, `
 load.  Every building has its own ground acceleration (``ag[b]``); its ground displacement and
 velocity are ODE states, so gaps close on absolute positions.
 
-**Superstructure.**  Storeys: linear springs, or Takeda/Clough storeys (``hysteresis.py``,
-force states).  Rayleigh damping from the fixed-base lumped building's modes 1 and 2 (on the
-storeys' initial stiffness).  Floors: one node, or a chain of ``nodes`` nodes with a mass profile
+**Superstructure.**  Storeys: linear springs, or hysteretic storeys with the force as an ODE state:
+Takeda/Clough (``hysteresis.py``; ``Bldg.takeda``), flag-shaped self-centring (``flag.py``) or
+Ramberg-Osgood with Masing's rules (``masing.py``; both ``Bldg.hysteresis``; a building's storeys all of
+one law).  Each hysteretic storey has three states (its force and two of its law's: Takeda's largest
+excursions, the flag's slip); a Masing storey's reversal points are held by terminal events
+(``masing.Memory``), as contact is.  Rayleigh damping from the fixed-base lumped building's modes 1
+and 2 (on the storeys' initial stiffness).  Floors: one node, or a chain of ``nodes`` nodes with a mass profile
 (``chain["weights"]``, any shape), equal links of stiffness ``k_link`` and stiffness-proportional
 link dashpots ``beta_link * k_link``; the storey spring below a floor is shared by its nodes in
 proportion to their tributary lengths.  Attachments (bolted elements): a node of mass ``m`` on a
@@ -24,7 +28,7 @@ joint spring and dashpot at a floor's contact face, its mass taken from the floo
 v0 (at least ``V0_FLOOR`` = 1 mm/s) at each onset for e = e(v0), from (1 + e) = x ln((x + 1)/(x - e)), x = k / (zeta v0) (seed
 Eq. 8), solved here by ``toms748``.  Onsets and separations are terminal events of ``solve_ivp``
 (rtol 1e-8, steps of at most ``max_step``; LSODA on small elastic rows, RK45 on large or hysteretic
-ones, see ``simulate``).
+ones, see ``simulate``), as are a Masing storey's reversals and the closings of its loops.
 
 Outputs at the requested times: floor sensors' absolute accelerations (mid-length of a chain, by
 linear interpolation between nodes), roof displacements relative to the free field, each
@@ -41,7 +45,7 @@ from scipy.integrate import solve_ivp
 from scipy.linalg import eigh
 from scipy.optimize import root_scalar
 
-from . import hysteresis
+from . import flag, hysteresis, masing
 
 V0_FLOOR = 1e-3  # m/s: zeta of a grazing contact is set at this approach velocity (zeta grows as 1/v0)
 
@@ -56,6 +60,9 @@ class Bldg:
     chain: dict | None = None  # {"nodes": p, "weights": p mass shares, "k_link": N/m, "beta_link": s}
     attachment: dict | None = None  # {"mass": kg, "k": N/m, "c": N s/m}, at every contact face
     takeda: dict | None = None  # {"dy": [per storey], "alpha", "beta", "pinch" (None)}
+    # another storey law (instead of takeda): {"kind": "flag", "dy": [per storey], "alpha", "beta_f"} (flag.py) or
+    # {"kind": "masing", "dy": [per storey], "a", "r"} (masing.py)
+    hysteresis: dict | None = None
     soil: dict | None = None  # soil.py's model plus "m0", "I0"
     v0: float = 0.0  # initial velocity of every DOF of the building (impact tests)
 
@@ -144,7 +151,7 @@ class Assembly:
         R = np.zeros((n, nb))
         self.hyst = []  # (building, storey): drift rows
         Dh = []
-        hk0, hdy, halpha, hbeta, hpinch = [], [], [], [], []
+        hk0, hdy, halpha, hbeta, hpinch, hkind = [], [], [], [], [], []
         for bi, (b, blk) in enumerate(zip(row.buildings, blocks)):
             struct = [d for f in range(b.n) for d in blk["floors"][f] + [a for a in blk["att"][f] if a is not None]]
             zof = {}
@@ -172,7 +179,7 @@ class Assembly:
                     below = blk["floors"][f - 1][i] if f > 0 else None
                     ks = b.stiffness[f] * share[i]
                     _pair(Cs, loc[d], None if below is None else loc[below], a1 * ks)
-                    if b.takeda is None:
+                    if b.takeda is None and b.hysteresis is None:
                         _pair(Ks, loc[d], None if below is None else loc[below], ks)
                     else:
                         row_ = np.zeros(ns)
@@ -182,10 +189,14 @@ class Assembly:
                         Dh.append(row_ @ B)
                         self.hyst.append((bi, f))
                         hk0.append(ks)
-                        hdy.append(b.takeda["dy"][f])
-                        halpha.append(b.takeda["alpha"])
-                        hbeta.append(b.takeda["beta"])
-                        hpinch.append(b.takeda.get("pinch") or 2.0)  # 2: no pinching
+                        law = b.takeda if b.takeda is not None else b.hysteresis
+                        kind = "takeda" if b.takeda is not None else law["kind"]
+                        hkind.append(kind)
+                        hdy.append(law["dy"][f])
+                        # (alpha, beta): Takeda's (alpha, beta); flag's (alpha, beta_f); Masing's (a, r)
+                        halpha.append(law["a"] if kind == "masing" else law["alpha"])
+                        hbeta.append(law[{"takeda": "beta", "flag": "beta_f", "masing": "r"}[kind]])
+                        hpinch.append((law.get("pinch") or 2.0) if kind == "takeda" else 2.0)  # 2: no pinching
                 for i in range(p - 1):
                     _pair(Ks, loc[nodes[i + 1]], loc[nodes[i]], b.chain["k_link"])
                     _pair(Cs, loc[nodes[i + 1]], loc[nodes[i]], b.chain["beta_link"] * b.chain["k_link"])
@@ -214,6 +225,9 @@ class Assembly:
         self.Dh = np.array(Dh).reshape(len(Dh), n)
         self.hpar = tuple(np.array(x, float) for x in (hk0, hdy, halpha, hbeta))
         self.hpinch = np.array(hpinch, float) if self.hyst else None
+        # each law's storeys (indices into the hysteretic storeys)
+        self.hkind = np.array(hkind, dtype=object)
+        self.groups = {k: np.flatnonzero(self.hkind == k) for k in ("takeda", "flag", "masing")}
         # contact pairs: (left building, its right face DOF, right building, its left face DOF, size, floor)
         self.pairs = []
         for li, ri, size in row.gaps:
@@ -272,9 +286,16 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False,
     N = o + 2 * nb
     Dh = A.Dh
     k0, dy, alpha, beta = A.hpar
+    # each law's storeys: Takeda's states (f, dpos, dneg); the flag's (f, p, unused); Masing's (f, unused, unused),
+    # its reversal points held by events (masing.Memory)
+    it, ifl, ims = (A.groups[k] if nh else np.zeros(0, int) for k in ("takeda", "flag", "masing"))
     pinch = None
-    if nh and np.any(A.hpinch < 1.0):
-        pinch = A.hpinch
+    if it.size and np.any(A.hpinch[it] < 1.0):
+        pinch = A.hpinch[it]
+    par_t = tuple(x[it] for x in (k0, dy, alpha, beta))
+    par_f = tuple(x[ifl] for x in (k0, dy, alpha, beta))
+    mem = masing.Memory(*(x[ims] for x in (k0, dy, alpha, beta))) if ims.size else None
+    Dm = Dh[ims] if ims.size else None
     # closure gradient of each pair over (x, ug)
     G = np.zeros((npair, n))
     Gg = np.zeros((npair, nb))
@@ -304,7 +325,14 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False,
             fh = y[sf]
             fint = fint + Dh.T @ fh
             drift, rate = Dh @ x, Dh @ v
-            df, dp_, dn_ = hysteresis.rates(drift, rate, fh, y[sp], y[sn], k0, dy, alpha, beta, pinch)
+            df, dp_, dn_ = np.zeros(nh), np.zeros(nh), np.zeros(nh)
+            if it.size:
+                df[it], dp_[it], dn_[it] = hysteresis.rates(drift[it], rate[it], fh[it], y[sp][it], y[sn][it], *par_t,
+                                                            pinch)
+            if ifl.size:
+                df[ifl], dp_[ifl] = flag.rates(rate[ifl], fh[ifl], y[sp][ifl], *par_f)
+            if ims.size:
+                df[ims] = mem.rates(rate[ims], fh[ims])
             dy_[sf], dy_[sp], dy_[sn] = df, dp_, dn_
         F = contact_force(y)
         fext = -A.R @ ground(t) - G.T @ F
@@ -325,8 +353,18 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False,
     def jac(t, y):
         J = J0.copy()
         if nh:
-            kt, on_p, on_n, dd, dfv = hysteresis.tangent(Dh @ y[sx], Dh @ y[sv], y[sf], y[sp], y[sn], k0, dy, alpha,
-                                                         beta, pinch, partials=True)
+            kt, on_p, on_n, dd, dfv = (np.zeros(nh) for _ in range(5))
+            drift, rate, fh = Dh @ y[sx], Dh @ y[sv], y[sf]
+            if it.size:
+                kt[it], on_p[it], on_n[it], dd[it], dfv[it] = hysteresis.tangent(
+                    drift[it], rate[it], fh[it], y[sp][it], y[sn][it], *par_t, pinch, partials=True)
+            if ifl.size:
+                kt[ifl], flow = flag.tangent(rate[ifl], fh[ifl], y[sp][ifl], *par_f)
+                on_p[ifl] = (1.0 - par_f[2]) * flow  # d(dp/dt)/d(rate)
+            if ims.size:
+                kt[ims] = mem.tangent(fh[ims])
+                h = 1e-7 * k0[ims] * dy[ims]  # d(kt v)/df by a central difference
+                dfv[ims] = rate[ims] * (mem.tangent(fh[ims] + h) - mem.tangent(fh[ims] - h)) / (2 * h)
             J[sf, sv] = kt[:, None] * Dh
             J[sf, sx] = dd[:, None] * Dh
             J[sf, sf] = np.diag(dfv)
@@ -354,6 +392,8 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False,
             ev.terminal = True
             ev.direction = -1.0 if closed[p] else 1.0
             evs.append(ev)
+        if mem is not None:  # events npair (a Masing storey's reversal) and npair + 1 (a loop's closing)
+            evs += mem.events(lambda t, y: Dm @ y[sx], lambda t, y: Dm @ y[sv])
         return evs
 
     # absolute tolerances: 1e-12 on displacements, velocities and the ground's states; 1e-7 Fy on storey forces
@@ -361,6 +401,7 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False,
     atol = np.full(N, 1e-12)
     if nh:
         atol[sf] = 1e-7 * k0 * dy
+        atol[sp][ifl] = 1e-10 * dy[ifl]  # the flag's slip
     y = np.zeros(N)
     for bi, b in enumerate(row.buildings):
         if b.v0:
@@ -369,7 +410,7 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False,
                 for d in blk["floors"][f] + [a for a in blk["att"][f] if a is not None]:
                     y[n + d] = b.v0
     if nh:
-        y[sp], y[sn] = dy, -dy
+        y[sp][it], y[sn][it] = dy[it], -dy[it]
     # pairs touching at rest and approaching: closed from the start
     d0, r0 = closure(y)
     for p in range(npair):
@@ -385,6 +426,7 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False,
     # RK45 within 1e-5 of LSODA where both finish)
     meth = method if method != "auto" else ("LSODA" if N <= 160 and not nh else "RK45")
     t, t_end = float(t_eval[0]), float(t_eval[-1])
+    stuck = 0  # restarts in a row without progress (events at the start time)
     out = np.full((len(t_eval), N), np.nan)
     states = [None] * len(t_eval)
     done = np.zeros(len(t_eval), bool)
@@ -397,7 +439,7 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False,
         t1 = sol.t[-1]
         fired = []
         if sol.status == 1:
-            fired = sorted((float(sol.t_events[p][0]), p) for p in range(npair) if sol.t_events[p].size)
+            fired = sorted((float(sol.t_events[p][0]), p) for p in range(len(sol.t_events)) if sol.t_events[p].size)
             t1 = fired[0][0]
         sel = (~done) & (t_eval >= t) & (t_eval <= t1)
         if sel.any():
@@ -406,10 +448,16 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False,
                 states[k] = (closed.copy(), zeta.copy())
             done |= sel
         y = sol.sol(t1)
+        stuck = stuck + 1 if t1 <= t else 0
+        if stuck > 100:
+            raise RuntimeError(f"no progress at t = {t}: events at the start time")
         t = t1
         for te, p in fired:
             if te - fired[0][0] > 1e-12:
                 break
+            if p >= npair:  # a Masing storey turned, or its loop closed
+                mem.on_event(p - npair, Dm @ y[sx], Dm @ y[sv], y[sf][ims])
+                continue
             r = closure(y)[1][p]
             if closed[p]:
                 closed[p] = False
@@ -447,6 +495,8 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False,
                 res["peak_drift"][b.name] = float(np.abs(drift[:, cols]).max())
     if forces:
         res["force"] = fc
+    if mem is not None:
+        res["masing_reversals"] = mem.reversals
     return res
 
 
@@ -461,7 +511,7 @@ def linear_periods(row: Row, building: int, fixed_base=False):
     import copy
 
     bb = copy.deepcopy(b)
-    bb.takeda = None
+    bb.takeda = bb.hysteresis = None
     bb.v0 = 0.0
     if fixed_base:
         bb.soil = None

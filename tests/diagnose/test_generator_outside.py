@@ -1,5 +1,6 @@
-"""The held-out generator (``benchmarks/diagnose/outside.py``, ``soil.py``, ``hysteresis.py``, ``suite.py``):
-each new form against a closed form or an independent check, the kind named in each test.
+"""The held-out generator (``benchmarks/diagnose/outside.py``, ``soil.py``, ``hysteresis.py``, ``flag.py``,
+``masing.py``, ``suite.py``): each new form against a closed form or an independent check, the kind named in each
+test.
 
 Tolerances are 2-3 times the error measured when the test was written (printed as MEASURED);
 where the measured error is at round-off, the tolerance is a round-off bound.
@@ -10,7 +11,9 @@ import math
 import numpy as np
 import pytest
 
+from benchmarks.diagnose import flag as FL
 from benchmarks.diagnose import hysteresis as H
+from benchmarks.diagnose import masing as M
 from benchmarks.diagnose import outside as O
 from benchmarks.diagnose import soil, suite, twin
 
@@ -299,3 +302,183 @@ def test_takeda_storey_in_the_row_solver():
     eom = np.linalg.norm(m * res["acc"][("A", 1)] + f + (a1 * k + a0 * m) * v) / np.linalg.norm(f)
     print(f"MEASURED Takeda storey in the row solver: force against follow() NE {err:.1e}, equation of motion {eom:.1e}")
     assert err < 1.5e-3 and eom < 6e-4  # measured 5.9e-4 (the drift's linear interpolation), 2.3e-4 (its gradient)
+
+
+# ------------------------------------------------------------------ flag-shaped and Ramberg-Osgood / Masing storeys
+FLAG_PATH = [0, 3, 2.7, 3.5, 1, 0, -2, -1, 2, 0]
+
+
+def _flag_path():
+    """By hand, k0 = 1, dy = 1 (Fy = 1), alpha = 0.1, beta_f = 0.6 (upper line f = 1 + 0.1 (d - 1), lower line
+    f = 0.4 + 0.1 (d - 0.4), their mirror images below), along the drift history FLAG_PATH."""
+    return [0.0,
+            1 + 0.1 * 2,  # 3: the upper line
+            1.2 - 0.3,  # 2.7: elastic unloading (0.9 stays above the lower line's 0.4 + 0.1 (2.7 - 0.4) = 0.63)
+            1 + 0.1 * 2.5,  # 3.5: elastic back to (3, 1.2), the upper line on
+            0.4 + 0.1 * 0.6,  # 1: a drop of 0.6 at k0 (to 0.65 at 2.9), the lower line down
+            0.0,  # 0: the lower line to (0.4, 0.4), elastic through the origin
+            -(1 + 0.1 * 1),  # -2: elastic to (-1, -1), the negative upper line
+            -(0.4 + 0.1 * 0.6),  # -1: elastic up by 0.6 (to -0.5 at -1.4), the negative lower line
+            1 + 0.1 * 1,  # 2: lower line to (-0.4, -0.4), elastic to (1, 1), the upper line
+            0.0]  # 0: drop to 0.5 at 1.4, the lower line to (0.4, 0.4), elastic to the origin
+
+
+def test_flag_against_a_hand_computed_path():
+    """Closed form: the flag-shaped law (flag.py) integrated along a prescribed drift history with a partial
+    unloading and a partial reloading inside the flags, against the path computed by hand (``_flag_path``)."""
+    d, v = _history(FLAG_PATH)
+    n = len(FLAG_PATH) - 1
+    t = np.linspace(0, n, 1000 * n + 1)
+    f = FL.follow(t, d, v, 1.0, 1.0, 0.1, 0.6, rtol=1e-11)
+    got = [f[np.searchsorted(t, k)] for k in range(n + 1)]
+    err = max(abs(a - b) for a, b in zip(got, _flag_path()))
+    print(f"MEASURED flag path: largest force error {err:.1e} (of Fy)")
+    assert err < 2.5e-7  # measured 9.3e-8 (the lines are reached within ENVELOPE_TOL = 1e-7 Fy)
+
+
+def test_flag_returns_to_the_origin():
+    """Closed form (self-centring): after any excursion, however large, the flag law unloads to zero force at
+    zero drift with its slip back at zero; cycles of assorted amplitudes (to 12 dy), with beta_f = 0.3 and 0.95 (a
+    lower line near zero force)."""
+    amps = [2.5, -4.0, 1.7, -1.3, 6.0, -2.2]
+    pts = [0.0]
+    for a in amps:
+        pts += [a, 0.0]
+    d, v = _history(pts)
+    n = len(pts) - 1
+    t = np.linspace(0, n, 1000 * n + 1)
+    worst_f, worst_p = 0.0, 0.0
+    for beta_f in (0.3, 0.95):
+        f, p = FL.follow(t, d, v, 2.0, 0.5, 0.05, beta_f, slip=True, rtol=1e-11)
+        at_zero = [np.searchsorted(t, k) for k in range(2, n + 1, 2)]
+        worst_f = max(worst_f, np.abs(f[at_zero]).max() / (2.0 * 0.5))
+        worst_p = max(worst_p, np.abs(p[at_zero]).max() / 0.5)
+        assert np.abs(f[[np.searchsorted(t, k) for k in range(1, n, 2)]]).min() > 2.0 * 0.5  # each excursion yielded
+    print(f"MEASURED flag at zero drift after each excursion: largest force {worst_f:.1e} of Fy, "
+          f"slip {worst_p:.1e} of dy")
+    assert worst_f < 1e-6 and worst_p < 3e-7  # measured 4.1e-7 (RK45's error in f - k0 (d - p)), 1.0e-7 (SLIP_TOL)
+
+
+def _ro_drift(f):
+    """The Ramberg-Osgood backbone's drift with k0 = 1, dy = 1, a = 1, r = 3: d = f (1 + f^2)."""
+    return f + f ** 3
+
+
+# Masing drift history by hand (k0 = dy = a = 1, r = 3), built from forces: each point's drift from the curve it is on
+# (a branch from (d_r, f_r): d = d_r + 2 D((f - f_r) / 2)), with the force the law must give there
+_R2 = 2 - 2 * _ro_drift(0.8)  # -0.624
+_R4 = -_ro_drift(1.2)  # -2.928
+MASING_PATH = [
+    (0.0, 0.0),
+    (_ro_drift(1.0), 1.0),  # R1 = (2, 1): the backbone
+    (_R2, -0.6),  # R2 = (-0.624, -0.6): the branch from R1, (1 - f) / 2 = 0.8
+    (_R2 + 2 * _ro_drift(0.5), 0.4),  # R3 = (0.626, 0.4): the branch from R2
+    (_R2, -0.6),  # the branch from R3 closes its loop at R2 (rule 4) ...
+    (2 - 2 * _ro_drift(0.9), -0.8),  # ... and continues on R1's branch: (-1.258, -0.8)
+    (-2.0, -1.0),  # R1's branch meets the backbone at R1's mirror image (rule 3) ...
+    (_R4, -1.2),  # ... and follows it: R4 = (-2.928, -1.2)
+    (_R4 + 2 * _ro_drift(0.7), 0.2),  # the branch from R4: (-0.842, 0.2)
+]
+
+
+def test_masing_against_a_hand_computed_path():
+    """Closed form: the Ramberg-Osgood / Masing law (masing.py) integrated along a drift history with a nested
+    loop (rule 4: it closes and the older branch goes on) and a branch that meets the backbone (rule 3), against
+    the forces by hand (``MASING_PATH``; on a path from force-chosen points the drifts are explicit)."""
+    pts = [p[0] for p in MASING_PATH]
+    d, v = _history(pts)
+    n = len(pts) - 1
+    t = np.linspace(0, n, 1000 * n + 1)
+    f = M.follow(t, d, v, 1.0, 1.0, 1.0, 3.0)
+    got = [f[np.searchsorted(t, k)] for k in range(n + 1)]
+    err = max(abs(a - b) for a, (_, b) in zip(got, MASING_PATH))
+    print(f"MEASURED Masing path: largest force error {err:.1e} (of Fy)")
+    assert err < 2.5e-8  # measured 8.7e-9 (at the prescribed drift's corners, where RK45 steps across v's jump)
+
+
+def test_masing_branches_are_the_backbone_scaled_by_two():
+    """Masing's rule: every point of the first loading satisfies d = D(f), and every point of a branch from a
+    reversal point (d_r, f_r) satisfies d - d_r = 2 D((f - f_r) / 2), for a backbone with another a and r; checked
+    over the whole of each curve of a drift history (growing cycles, each reversal on the backbone or a branch)."""
+    k0, dy, a, r = 3.0, 0.5, 0.6, 7.0
+    D = lambda f: M.backbone_drift(f, k0, dy, a, r)
+    pts = [0.0, 1.5, -1.0, 2.0, -2.5, 0.5]
+    dd, v = _history(pts)
+    n = len(pts) - 1
+    t = np.linspace(0, n, 1000 * n + 1)
+    f, mem = M.follow(t, dd, v, k0, dy, a, r, memory=True)
+    d = np.array([dd(s) for s in t])
+    # the curves, (selection, d_r, f_r, scale): the backbone to R1 at 1.5; R1's branch to R2 at -1.0; R2's branch up to
+    # R1, where its loop closes, then the backbone (rule 4, R1 being on it) to R3 at 2.0; R3's branch down to its
+    # mirror image -2.0, then the backbone (rule 3) to R4 at -2.5; R4's branch to 0.5
+    seg = lambda k: (t >= k) & (t <= k + 1)
+    i = {k: np.searchsorted(t, k) for k in range(n + 1)}
+    worst = 0.0
+    checks = [(seg(0), 0.0, 0.0, 1.0), (seg(1), d[i[1]], f[i[1]], 2.0),
+              (seg(2) & (d <= 1.5), d[i[2]], f[i[2]], 2.0), (seg(2) & (d >= 1.5), 0.0, 0.0, 1.0),
+              (seg(3) & (d >= -2.0), d[i[3]], f[i[3]], 2.0), (seg(3) & (d <= -2.0), 0.0, 0.0, 1.0),
+              (seg(4), d[i[4]], f[i[4]], 2.0)]
+    for sel, d_r, f_r, scale in checks:
+        res = np.abs(d[sel] - d_r - scale * D((f[sel] - f_r) / scale)).max() / dy
+        worst = max(worst, res)
+    # the reversal points the law holds at the end: R4 alone (the others wiped out by rules 3 and 4)
+    assert len(mem.stack[0]) == 1 and abs(mem.stack[0][0][0] + 2.5) < 1e-12 and mem.reversals == 4
+    print(f"MEASURED Masing's rule along every curve: largest drift residual {worst:.1e} (of dy)")
+    assert worst < 5e-8  # measured 1.7e-8
+
+
+# limits on (force against follow(), equation of motion): measured (1.4e-3, 2.2e-4) flag, (4.0e-4, 1.0e-4) Masing (the
+# drift's linear interpolation, its gradient)
+LIMITS_ROW = {"flag": (3.5e-3, 6e-4), "masing": (1e-3, 3e-4)}
+
+
+@pytest.mark.parametrize("kind", ["flag", "masing"])
+def test_flag_and_masing_storeys_in_the_row_solver(kind):
+    """Independent check (as for Takeda above): a one-storey building with a flag or a Masing storey under a record
+    in outside.py; its storey force against the law's ``follow`` along the drift the solver computed (sampled at
+    500 Hz, linearly interpolated), and against the equation of motion."""
+    t, ag = _ag(2.0)
+    m, k, dy = 1e5, 1.3e8, 0.004
+    law = {"kind": "flag", "dy": [dy], "alpha": 0.1, "beta_f": 0.7} if kind == "flag" else \
+        {"kind": "masing", "dy": [dy], "a": 0.5, "r": 6.0}
+    b = O.Bldg("A", [m], [k], [3.0], hysteresis=law)
+    h = 0.002
+    te = np.arange(0, 2.0, h)
+    res = O.simulate(O.Row([b], []), t, 2.5 * ag, te)
+    d, f = res["roof"]["A"], res["storey_force"][:, 0]
+    assert np.abs(d).max() > 2 * dy  # it yields
+    vv = np.diff(d) / h
+    dd, rate = (lambda s: np.interp(s, te, d)), (lambda s: vv[min(int(s / h), vv.size - 1)])
+    if kind == "flag":
+        g = FL.follow(te, dd, rate, k, dy, 0.1, 0.7, rtol=1e-6)
+    else:
+        g = M.follow(te, dd, rate, k, dy, 0.5, 6.0, rtol=1e-6)
+    err = np.linalg.norm(g - f) / np.linalg.norm(f)
+    a0, a1 = O.fixed_base_rayleigh([m], [k], 0.05)
+    eom = np.linalg.norm(m * res["acc"][("A", 1)] + f + (a1 * k + a0 * m) * np.gradient(d, h)) / np.linalg.norm(f)
+    print(f"MEASURED {kind} storey in the row solver: force against follow() NE {err:.1e}, "
+          f"equation of motion {eom:.1e}")
+    assert err < LIMITS_ROW[kind][0] and eom < LIMITS_ROW[kind][1]
+
+
+@pytest.mark.parametrize("form", ["flag", "masing"])
+def test_generated_flag_and_masing_storeys_yield(form):
+    """The generator's draw: a case of the form (seed 2: a 3- and a 10-storey building, 4 s of record) has storeys
+    of that law whose peak drift passes the yield drift (Fy / k0) the key records, with the law's values."""
+    c = suite._setup(form, 2, False, 4.0)
+    t = np.arange(round(4.0 / c.dt) + 1) * c.dt
+    res = O.simulate(c.row, c.t_ag, c.ag_rows, t, max_step=min(1e-3, c.dt))
+    q = c.info["quantities"]["buildings"]
+    ratio = {b.name: res["peak_drift"][b.name] / q[b.name]["yield_drift"] for b in c.row.buildings}
+    print(f"MEASURED {form}: peak drift over the yield drift {', '.join(f'{n} {r:.2f}' for n, r in ratio.items())}")
+    assert max(ratio.values()) > 1.0  # they yield: measured 2.35 (flag), 2.23 (masing)
+    for b in c.row.buildings:
+        law, per = b.hysteresis, q[b.name]
+        assert law["kind"] == form and b.takeda is None and per["yield_drift"] == law["dy"][0]
+        if form == "flag":
+            assert (per["post_yield_ratio"], per["beta_f"]) == (law["alpha"], law["beta_f"])
+            assert 0.03 <= law["alpha"] <= 0.15 and 0.4 <= law["beta_f"] <= 0.9
+        else:
+            assert (per["ramberg_osgood_a"], per["ramberg_osgood_r"]) == (law["a"], law["r"])
+            assert 0.3 <= law["a"] <= 1.0 and 4.0 <= law["r"] <= 12.0
+    assert suite.FORMS[form] == ("inelastic-storey", ["inelastic-storey"])

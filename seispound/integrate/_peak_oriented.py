@@ -9,7 +9,7 @@ Res. Ser. 465, U. Illinois), with the storey's force f [N] and drift d [m]:
 * backbone: bilinear and symmetric, f = k d up to the yield drift dy = fy / k, then slope alpha k;
 * unloading (f and the drift's motion of opposite signs): a line of slope k_u = k (dy / d_m)^beta_u, d_m the
   largest excursion on the side f is on (dy before that side yields; beta_u = 0 is Clough's law, 0.3-0.5
-  Takeda's as Otani gives it);
+  Takeda's as Otani gives it), never flatter than the secant to that peak (``_unloading_stiffness``);
 * reloading (f zero or of the motion's sign, off the backbone): a line from the current point aimed at the
   largest excursion on the side it moves to, on the backbone (the yield point before that side yields), so
   that a partial reversal reloads straight back towards the same peak (Saiidi & Sozen's simplification of
@@ -43,9 +43,15 @@ def _backbone(x, s, k, dy, alpha):
 
 
 @njit(cache=True, inline="always")
-def _unloading_stiffness(k, dy, beta_u, peak):
-    """k_u = k (dy / d_m)^beta_u [N/m] for the largest excursion d_m = |peak| >= dy of the side (Otani 1974)."""
-    return k if beta_u == 0.0 else k * (dy / peak) ** beta_u
+def _unloading_stiffness(k, dy, alpha, beta_u, peak):
+    """k_u = k (dy / d_m)^beta_u [N/m] for the largest excursion d_m = |peak| >= dy of the side (Otani 1974),
+    held at least the peak's secant stiffness F_m / d_m = k (alpha + (1 - alpha) dy / d_m) (derived here: a
+    flatter unloading line would end past the origin, and below alpha k its loops would make energy; the
+    exponent reaches it only at large ductility and a large alpha, e.g. beta_u 0.9 and alpha 0.23 at 5)."""
+    if beta_u == 0.0:
+        return k
+    ratio = dy / peak
+    return k * max(ratio ** beta_u, alpha + (1.0 - alpha) * ratio)
 
 
 @njit(cache=True)
@@ -76,7 +82,7 @@ def peak_oriented_move(par, d, f, dpos, dneg, delta, rate):
     kt = k
     for _ in range(_MAX_SEGMENTS):
         if f * m < 0.0:  # unloading towards zero force
-            ku = _unloading_stiffness(k, dy, beta_u, dpos if f > 0.0 else -dneg)
+            ku = _unloading_stiffness(k, dy, alpha, beta_u, dpos if f > 0.0 else -dneg)
             d0 = d - f / ku
             kt = ku
             if m * (delta - d0) <= 0.0:
@@ -91,7 +97,7 @@ def peak_oriented_move(par, d, f, dpos, dneg, delta, rate):
             return f, kt, (delta if m > 0.0 else dpos), (delta if m < 0.0 else dneg)
         d_aim, f_aim = peak, _backbone(peak, m, k, dy, alpha)
         if pinch > 0.0 and m * f < m * (1.0 - pinch) * f_aim:
-            d_pinch = peak - pinch * f_aim / _unloading_stiffness(k, dy, beta_u, m * peak)
+            d_pinch = peak - pinch * f_aim / _unloading_stiffness(k, dy, alpha, beta_u, m * peak)
             if m * d < m * d_pinch and (f_aim * (1.0 - pinch) - f) * m <= k * m * (d_pinch - d):
                 d_aim, f_aim = d_pinch, (1.0 - pinch) * f_aim
         run = d_aim - d
@@ -122,5 +128,5 @@ def peak_oriented_energy(par, f, dpos, dneg):
     k, fy, alpha, beta_u, pinch = par
     if f == 0.0:
         return 0.0
-    ku = _unloading_stiffness(k, fy / k, beta_u, dpos if f > 0.0 else -dneg)
+    ku = _unloading_stiffness(k, fy / k, alpha, beta_u, dpos if f > 0.0 else -dneg)
     return 0.5 * f * f / ku

@@ -113,3 +113,21 @@ def test_recoverable_energy_is_what_unloading_returns():
 def test_invalid_fields_name_their_key(fields, key):
     with pytest.raises(InputError, match=key):
         StoreyLaw(yield_drift=DY, post_yield_ratio=ALPHA, **fields).validate(1, "storey_law")
+
+
+def test_unloading_never_flatter_than_the_peaks_secant_so_every_loop_dissipates():
+    # alpha 0.23 and beta_u 0.9 at a ductility of 10: Takeda's k (1/10)^0.9 = 0.126 k is below the secant
+    # F_m / d_m = k (0.23 + 0.77 / 10) = 0.307 k, and below alpha k its loops would make energy
+    law = StoreyLaw(kind="peak-oriented", yield_drift=DY, post_yield_ratio=0.23, unloading_exponent=0.9)
+    law.validate(1)
+    par = law.kernel_rows([K], N_PAR)[1]
+    f, kt, _ = _walk(par, np.array([10.0, 9.0]) * DY)
+    assert kt[1] == pytest.approx(K * (0.23 + 0.77 / 10), rel=1e-12)
+    # cycles of growing amplitude: the work done on the storey over each closed cycle is positive
+    cyc = np.concatenate([np.linspace(0, a, 60)[1:] for a in (10, -10, 10, -12, 12, 0)]) * DY
+    forces = _walk(par, cyc)[0]
+    work = np.diff(cyc) * 0.5 * (forces[1:] + forces[:-1])
+    assert work.sum() > 0.0
+    bounds = np.flatnonzero(np.isin(np.round(cyc / DY, 9), (10, -10, -12, 12)))
+    per_cycle = [work[a:b].sum() for a, b in zip(bounds[:-2:2], bounds[2::2])]
+    assert min(per_cycle) > 0.0

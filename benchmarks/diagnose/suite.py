@@ -230,27 +230,25 @@ def apply_form(form, row, rng, s, info):
             b.takeda = {"dy": [dy] * b.n, "alpha": alpha, "beta": beta, "pinch": pinch}
             q.setdefault("buildings", {}).setdefault(b.name, {}).update(
                 {"yield_drift": dy, "post_yield_ratio": alpha, "unloading_exponent": beta, "pinch": pinch})
-    elif form == "flag":
-        # flag-shaped self-centring storeys (flag.py): a post-tensioned connection's stiffness after decompression
-        # alpha 0.03-0.15 of the initial; the flag's height beta_f 0.4-0.9 of Fy (below 1: self-centring; the loop
-        # then holds about beta_f / 2 of a bilinear loop's energy); the yield drift as the takeda branch draws it
-        alpha, beta_f = rng.uniform(0.03, 0.15), rng.uniform(0.4, 0.9)
-        for b in row.buildings:
+    elif form in ("flag", "masing"):
+        if form == "flag":
+            # flag-shaped self-centring storeys (flag.py): a post-tensioned connection's stiffness after
+            # decompression alpha 0.03-0.15 of the initial; the flag's height beta_f 0.4-0.9 of Fy (below 1:
+            # self-centring; the loop then holds about beta_f / 2 of a bilinear loop's energy)
+            alpha, beta_f = rng.uniform(0.03, 0.15), rng.uniform(0.4, 0.9)
+            law = {"kind": "flag", "alpha": alpha, "beta_f": beta_f}
+            key = {"storey_law": "flag", "post_yield_ratio": alpha, "beta_f": beta_f}
+        else:
+            # Ramberg-Osgood / Masing storeys (masing.py), d = f / k0 (1 + a |f / Fy|^(r - 1)): a 0.3-1.0 (the
+            # drift at Fy is 1.3-2 dy), r 4-12 (a gradual knee, as of concrete frames, to a sharp one, as of steel
+            # frames)
+            a, r = rng.uniform(0.3, 1.0), rng.uniform(4.0, 12.0)
+            law = {"kind": "masing", "a": a, "r": r}
+            key = {"storey_law": "ramberg-osgood-masing", "ramberg_osgood_a": a, "ramberg_osgood_r": r}
+        for b in row.buildings:  # the yield drift (Fy / k0) as the takeda branch draws it
             dy = float(rng.uniform(0.008, 0.02) / s)
-            b.hysteresis = {"kind": "flag", "dy": [dy] * b.n, "alpha": alpha, "beta_f": beta_f}
-            q.setdefault("buildings", {}).setdefault(b.name, {}).update(
-                {"storey_law": "flag", "yield_drift": dy, "post_yield_ratio": alpha, "beta_f": beta_f})
-    elif form == "masing":
-        # Ramberg-Osgood / Masing storeys (masing.py), d = f / k0 (1 + a |f / Fy|^(r - 1)): a 0.3-1.0 (the drift at
-        # Fy is 1.3-2 dy), r 4-12 (a gradual knee, as of concrete frames, to a sharp one, as of steel frames); the
-        # yield drift dy = Fy / k0 as the takeda branch draws it
-        a, r = rng.uniform(0.3, 1.0), rng.uniform(4.0, 12.0)
-        for b in row.buildings:
-            dy = float(rng.uniform(0.008, 0.02) / s)
-            b.hysteresis = {"kind": "masing", "dy": [dy] * b.n, "a": a, "r": r}
-            q.setdefault("buildings", {}).setdefault(b.name, {}).update(
-                {"storey_law": "ramberg-osgood-masing", "yield_drift": dy, "ramberg_osgood_a": a,
-                 "ramberg_osgood_r": r})
+            b.hysteresis = {**law, "dy": [dy] * b.n}
+            q.setdefault("buildings", {}).setdefault(b.name, {}).update({**key, "yield_drift": dy})
     elif form in EV_FORMS:
         law, par = ev_law(form, rng)
         e_base = law(0.25)  # the base model's constant e: the law's value at 0.25 m/s

@@ -31,7 +31,8 @@ class StoreyLaw:
         (beta sgn(d' z) + gamma)) (Wen 1976, J. Eng. Mech. Div. 102(2),
         249-263, with A = 1); "peak-oriented": the stiffness-degrading law of
         reinforced-concrete storeys, a bilinear backbone, unloading at
-        k (dy / d_m)^unloading_exponent and reloading aimed at the largest
+        k (dy / d_m)^unloading_exponent (never flatter than the secant to the
+        peak d_m) and reloading aimed at the largest
         excursion on the side it moves to (Clough & Johnston 1966; Takeda,
         Sozen & Nielsen 1970, with Otani's 1974 unloading), optionally
         pinched (the rules: ``seispound.integrate._peak_oriented``); k the

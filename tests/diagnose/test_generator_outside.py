@@ -281,21 +281,29 @@ def test_flexible_base_period_of_a_one_storey_building():
     assert got == pytest.approx(want, rel=1e-6)
 
 
-def test_takeda_storey_in_the_row_solver():
-    """Independent check: a one-storey Takeda building under a record in outside.py; its storey force against
-    hysteresis.follow along the drift the solver computed (sampled at 500 Hz, linearly interpolated), and
-    against the equation of motion, m a_abs = -f - c v (c = a1 k0 + a0 m, v from the drift's gradient)."""
+def _one_storey_under_a_record(m, k, **law):
+    """A one-storey building (mass m [kg], initial storey stiffness k [N/m]) with the storey law ``law`` (``Bldg``'s
+    ``takeda=`` or ``hysteresis=``) under 2.5 x the record's first 2 s in outside.py, sampled at 500 Hz: (the times,
+    their step, the drift, the storey force, the solver's result, the drift linearly interpolated and its rate)."""
     t, ag = _ag(2.0)
-    m, k, dy = 1e5, 1.3e8, 0.004
-    b = O.Bldg("A", [m], [k], [3.0], takeda={"dy": [dy], "alpha": 0.05, "beta": 0.4, "pinch": None})
+    b = O.Bldg("A", [m], [k], [3.0], **law)
     h = 0.002
     te = np.arange(0, 2.0, h)
     res = O.simulate(O.Row([b], []), t, 2.5 * ag, te)
     d, f = res["roof"]["A"], res["storey_force"][:, 0]
-    assert np.abs(d).max() > 2 * dy  # it yields
     vv = np.diff(d) / h
-    g = H.follow(te, lambda s: np.interp(s, te, d), lambda s: vv[min(int(s / h), vv.size - 1)], k, dy, 0.05, 0.4,
-                 rtol=1e-6)
+    return te, h, d, f, res, (lambda s: np.interp(s, te, d)), (lambda s: vv[min(int(s / h), vv.size - 1)])
+
+
+def test_takeda_storey_in_the_row_solver():
+    """Independent check: a one-storey Takeda building under a record in outside.py; its storey force against
+    hysteresis.follow along the drift the solver computed (sampled at 500 Hz, linearly interpolated), and
+    against the equation of motion, m a_abs = -f - c v (c = a1 k0 + a0 m, v from the drift's gradient)."""
+    m, k, dy = 1e5, 1.3e8, 0.004
+    te, h, d, f, res, dd, rate = _one_storey_under_a_record(
+        m, k, takeda={"dy": [dy], "alpha": 0.05, "beta": 0.4, "pinch": None})
+    assert np.abs(d).max() > 2 * dy  # it yields
+    g = H.follow(te, dd, rate, k, dy, 0.05, 0.4, rtol=1e-6)
     err = np.linalg.norm(g - f) / np.linalg.norm(f)
     a0, a1 = O.fixed_base_rayleigh([m], [k], 0.05)
     v = np.gradient(d, h)
@@ -437,18 +445,11 @@ def test_flag_and_masing_storeys_in_the_row_solver(kind):
     """Independent check (as for Takeda above): a one-storey building with a flag or a Masing storey under a record
     in outside.py; its storey force against the law's ``follow`` along the drift the solver computed (sampled at
     500 Hz, linearly interpolated), and against the equation of motion."""
-    t, ag = _ag(2.0)
     m, k, dy = 1e5, 1.3e8, 0.004
     law = {"kind": "flag", "dy": [dy], "alpha": 0.1, "beta_f": 0.7} if kind == "flag" else \
         {"kind": "masing", "dy": [dy], "a": 0.5, "r": 6.0}
-    b = O.Bldg("A", [m], [k], [3.0], hysteresis=law)
-    h = 0.002
-    te = np.arange(0, 2.0, h)
-    res = O.simulate(O.Row([b], []), t, 2.5 * ag, te)
-    d, f = res["roof"]["A"], res["storey_force"][:, 0]
+    te, h, d, f, res, dd, rate = _one_storey_under_a_record(m, k, hysteresis=law)
     assert np.abs(d).max() > 2 * dy  # it yields
-    vv = np.diff(d) / h
-    dd, rate = (lambda s: np.interp(s, te, d)), (lambda s: vv[min(int(s / h), vv.size - 1)])
     if kind == "flag":
         g = FL.follow(te, dd, rate, k, dy, 0.1, 0.7, rtol=1e-6)
     else:

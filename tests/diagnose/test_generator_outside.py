@@ -309,7 +309,7 @@ def test_takeda_storey_in_the_row_solver():
     v = np.gradient(d, h)
     eom = np.linalg.norm(m * res["acc"][("A", 1)] + f + (a1 * k + a0 * m) * v) / np.linalg.norm(f)
     print(f"MEASURED Takeda storey in the row solver: force against follow() NE {err:.1e}, equation of motion {eom:.1e}")
-    assert err < 1.5e-3 and eom < 6e-4  # measured 5.9e-4 (the drift's linear interpolation), 2.3e-4 (its gradient)
+    assert err < 1.5e-3 and eom < 6e-4  # measured 7.4e-4 (the drift's linear interpolation), 2.3e-4 (its gradient)
 
 
 # ------------------------------------------------------------------ flag-shaped and Ramberg-Osgood / Masing storeys

@@ -1,11 +1,11 @@
 """Free flight on the general driver: an analysis step with every gap open by each building's state-transition map.
 
-Private to the general driver (``_general.py``).  While every gap is open and every storey is bilinear
-or Bouc-Wen, each building moves by its own linear map over the analysis step (``transition.py``: exact
+Private to the general driver (``_general.py``).  While every gap is open and every storey is bilinear,
+Bouc-Wen or peak-oriented, each building moves by its own linear map over the analysis step (``transition.py``: exact
 for the piecewise-linear ground motion, or the same Newmark substeps composed), with each bilinear
-storey's plastic offset and each Bouc-Wen storey's offset force as inputs.  The step is screened for gap
+storey's plastic offset and each Bouc-Wen or peak-oriented storey's offset force as inputs.  The step is screened for gap
 events and for elastic bilinear storeys reaching yield (``_events``' cubic bound); the offsets of the
-Bouc-Wen storeys and of the bilinear storeys that are yielding at the step's start are iterated within
+Bouc-Wen and peak-oriented storeys and of the bilinear storeys that are yielding at the step's start are iterated within
 the step (``_hysteretic_flight``).  An accepted step commits the state, the storeys' laws and the energies;
 one that is not leaves the state as it was, and the driver takes the step on its physical path.
 """
@@ -18,9 +18,10 @@ from seispound._jit import njit
 from ._elements import _deformation_at, kinetic_energy
 from ._events import _event_in_step, _hermite, _screen_elements
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
-from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY
+from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY, PEAK_ORIENTED
 from ._material import (B_ON_SURFACE, ST_DELTA, ST_EPS, ST_PLASTIC, ST_Q, ST_Z, bilinear_dy, bilinear_path,
-                        bouc_wen_path, material_commit, material_trial)
+                        bouc_wen_path, material_commit, material_trial, peak_oriented_path)
+from ._peak_oriented import ST_D, ST_DNEG, ST_DPOS, ST_F
 from ._outputs import S_DOF_STEPS, S_FREE_FLIGHT, S_ITERATIONS, S_STEPS
 
 # a free-flight step's hysteretic terms: the fixed point stops when the next sweep would move no term's rise
@@ -62,6 +63,9 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
         if ne_code[q] == BOUC_WEN:  # c = (1 - alpha) k (delta - z) at the step's start
             cst[j] = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * (st_c[q, ST_DELTA] - st_c[q, ST_Z])
             itr[j] = True
+        elif ne_code[q] == PEAK_ORIENTED:  # c = k delta - f, iterated on every segment (k_t = k: c fixed)
+            cst[j] = ne_par[q, B_K] * st_c[q, ST_D] - st_c[q, ST_F]
+            itr[j] = True
         else:  # a yielding bilinear storey's c is iterated as a Bouc-Wen storey's (z = q_h / k)
             cst[j] = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * st_c[q, ST_PLASTIC]
             itr[j] = ff[16] and abs(st_c[q, ST_Q]) >= (1.0 - B_ON_SURFACE) * ne_par[q, B_FY]
@@ -92,7 +96,7 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
         return False, energy, ke0
     ke1 = kinetic_energy(lin[0], lin[1], lin[2], lin[9], v1)
     dke = ke1 - (ke0 if ke0 == ke0 else kinetic_energy(lin[0], lin[1], lin[2], lin[9], v))
-    _flight_commit(ff, elg, st, elem, ev, fl, peaks, moving)
+    _flight_commit(ff, elg, st, elem, ev, fl, peaks, moving, dt)
     stats[S_FREE_FLIGHT] += 1
     stats[S_ITERATIONS] += int(rise[rise.size - 1])  # the hysteretic terms' sweeps (0 without)
     stats[S_STEPS] += 1
@@ -133,14 +137,14 @@ def _elastic_through(ff, elg, st_c, x, dr1, gk, dt, cst, terms, dwh):
 
 
 @njit(cache=True, inline="always")
-def _flight_commit(ff, elg, st, elem, ev, fl, peaks, moving):
-    """An accepted free-flight step's end becomes the state: (u, v, a), the gaps' and storeys'
+def _flight_commit(ff, elg, st, elem, ev, fl, peaks, moving, h):
+    """An accepted free-flight step of h [s]'s end becomes the state: (u, v, a), the gaps' and storeys'
     deformations, the storeys' committed laws and forces, the peaks and the ground terms."""
     ne_code, ne_par, ne_gap = elg[3], elg[4], elg[5]
     u, v, a = st[0], st[1], st[2]
     st_c, st_t, F = elem[0], elem[1], elem[2]
     d0, r0, d1, r1, gk, g_t, g_1 = ev[0], ev[1], ev[2], ev[3], ev[6], ev[7], ev[8]
-    u1, v1, a1, zs, itr = fl[0], fl[1], fl[2], fl[7], fl[8]
+    u1, v1, a1, zs, itr, dr = fl[0], fl[1], fl[2], fl[7], fl[8], fl[10]
     umax, fmax = peaks
     st_elem = ff[10]
     for i in range(u.size):
@@ -155,7 +159,12 @@ def _flight_commit(ff, elg, st, elem, ev, fl, peaks, moving):
     for j in range(st_elem.size):  # the storeys' state at the step's end (elastic: delta_p kept)
         q = st_elem[j]
         d0[q] = d1[q]  # (the output's recoverable energy reads the storeys' deformations here)
-        if itr[j]:  # the state its path reached
+        if itr[j] and ne_code[q] == PEAK_ORIENTED:  # its law along the step's final path (exact)
+            ca, cb, cc = _cubic(dr[4 * j], dr[4 * j + 1], d1[q], dr[4 * j + 3], h)
+            f1, dpos, dneg = peak_oriented_path(ne_par, q, st_c, dr[4 * j], ca, cb, cc)[5:]
+            st_t[q, ST_F], st_t[q, ST_D], st_t[q, ST_DPOS], st_t[q, ST_DNEG] = f1, d1[q], dpos, dneg
+            F[q] = f1
+        elif itr[j]:  # the state its path reached
             for c in range(st_c.shape[1]):
                 st_t[q, c] = st_c[q, c]
             z = zs[6 * j]
@@ -284,7 +293,8 @@ def _hysteretic_flight(ff, elg, mat, x1, gs, gk, h, terms):
     sweep saved); a later sweep integrates only the storeys whose own predicted correction exceeds that
     (the others keep the linear correction, accumulated until the step ends).  Not converged, or a
     bilinear storey yielding from inside its elastic range (a kink in c(t) that no quadratic holds): the
-    physical path takes the step.
+    physical path takes the step; so does a peak-oriented storey whose tangent changes inside a monotonic
+    piece of its path (``_material.peak_oriented_path``: c = k delta - f, z = delta - c / ((1 - alpha) k)).
 
     elg = (ne_dof, ne_coef, ne_size, ne_code, ne_par): the elements with state; mat = (st_c, cst); x1 = (u1,
     v1, a1) (in: with c0 held) the step's end with the final terms; gs the ground accelerations at the step's
@@ -343,6 +353,11 @@ def _hysteretic_sweep(ff, elg, mat, x1, gk, h, terms, first):
             ca, cb, cc = _cubic(ds0, rs0, ds1, rs1, h)
             if ne_code[q] == BOUC_WEN:
                 zm, z1, eps1, pm, p1 = bouc_wen_path(ne_par, q, st_c[q, ST_Z], st_c[q, ST_EPS], ds0, ca, cb, cc)
+            elif ne_code[q] == PEAK_ORIENTED:
+                zm, z1, pm, p1, kink = peak_oriented_path(ne_par, q, st_c, ds0, ca, cb, cc)[:5]
+                if kink:
+                    return False
+                eps1 = 0.0
             else:
                 zm, z1, pm, p1, onset = bilinear_path(ne_par, q, st_c[q, ST_Q] / ne_par[q, B_K], ds0, ca, cb, cc)
                 if onset:

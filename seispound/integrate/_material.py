@@ -121,7 +121,7 @@ def _peak_oriented_trial(par, committed, trial, q, delta, rate):
     excursion column of 0 is the yield drift (the virgin storey)."""
     pq = _peak_oriented_par(par, q)
     dy = pq[1] / pq[0]
-    f, kt, dpos, dneg = peak_oriented_move(pq, committed[q, ST_D], committed[q, ST_F],
+    f, kt, dpos, dneg, _ = peak_oriented_move(pq, committed[q, ST_D], committed[q, ST_F],
                                            max(committed[q, ST_DPOS], dy), min(committed[q, ST_DNEG], -dy),
                                            delta, rate)
     trial[q, ST_F], trial[q, ST_D], trial[q, ST_DPOS], trial[q, ST_DNEG] = f, delta, dpos, dneg
@@ -509,6 +509,45 @@ def bilinear_path(par, q, z, d0, ca, cb, cc):
         p1 = slope
         dp, tp = db, tb
     return zm, z, pm, p1, onset
+
+
+@njit(cache=True)
+def peak_oriented_path(par, q, state, d0, ca, cb, cc):
+    """A peak-oriented storey along delta(tau) = d0 + ca tau + cb tau^2 + cc tau^3, tau in [0, 1], from its
+    committed ``state``: (z at the middle [m], z at the end [m], dz/d(delta) there [-], whether its slope
+    changes inside a monotonic piece, and the end's force [N] and excursions [m]).
+
+    Written as Bouc-Wen's form (``bouc_wen_path``): the force k delta - c with c = (1 - alpha) k (delta - z),
+    so z = delta - (k delta - f) / ((1 - alpha) k) and dz/d(delta) = 1 - (k - k_t) / ((1 - alpha) k) on a
+    segment of slope k_t (derived here).  The law is rate independent and piecewise linear: each monotonic
+    piece (cut at the turning points) is followed exactly (``peak_oriented_move``), and where no piece bends
+    the middle lies on its piece's line.  A slope that changes inside a piece (yield, zero force, a pinch
+    point, the target) makes the force's slope in time jump, which the free-flight step's quadratic load does
+    not hold: the caller takes that step on the physical path.  At a turning point the slope in time is
+    continuous (delta' = 0 there).
+    """
+    pq = _peak_oriented_par(par, q)
+    k, alpha = pq[0], pq[2]
+    dy = pq[1] / k
+    scale = (1.0 - alpha) * k
+    f, d = state[q, ST_F], state[q, ST_D]
+    dpos, dneg = max(state[q, ST_DPOS], dy), min(state[q, ST_DNEG], -dy)
+    t_a, t_b = _turning_points(ca, cb, cc)
+    dm = d0 + 0.5 * (ca + 0.5 * (cb + 0.5 * cc))
+    zm, pm, kt, tp, bent = 0.0, 1.0, k, 0.0, False
+    for i in range(3):
+        tb = t_a if i == 0 else (t_b if i == 1 else 1.0)
+        if tb > 1.0 or tb <= tp:
+            continue
+        db = d0 + tb * (ca + tb * (cb + tb * cc))
+        f_a, d_a = f, d
+        f, kt, dpos, dneg, b = peak_oriented_move(pq, d, f, dpos, dneg, db, db - d)
+        bent = bent or b  # (the move stays exact: the commit reads the end state of a path that bends)
+        if tp < 0.5 <= tb:  # the middle, on this piece's line
+            fm = f_a + kt * (dm - d_a)
+            zm, pm = dm - (k * dm - fm) / scale, 1.0 - (k - kt) / scale
+        d, tp = db, tb
+    return zm, d - (k * d - f) / scale, pm, 1.0 - (k - kt) / scale, bent, f, dpos, dneg
 
 
 @njit(cache=True)

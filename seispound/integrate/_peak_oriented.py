@@ -34,6 +34,9 @@ from seispound._jit import njit
 ST_F, ST_D, ST_DPOS, ST_DNEG = 0, 1, 2, 3
 # a move crosses at most: unloading to zero force, a pinch point, the target, the backbone
 _MAX_SEGMENTS = 8
+# a move bends where a segment's slope differs from its first's by more than this fraction of k (round-off
+# makes the virgin storey's unloading and reloading lines, both of slope k, differ by about 1e-16 k)
+BEND = 1e-9
 
 
 @njit(cache=True, inline="always")
@@ -54,9 +57,18 @@ def _unloading_stiffness(k, dy, alpha, beta_u, peak):
     return k * max(ratio ** beta_u, alpha + (1.0 - alpha) * ratio)
 
 
+@njit(cache=True, inline="always")
+def _bends(kt, k_first, k):
+    """(the first segment's slope [N/m], whether slope kt [N/m] differs from it): -1 is no segment yet."""
+    if k_first < 0.0:
+        return kt, False
+    return k_first, abs(kt - k_first) > BEND * k
+
+
 @njit(cache=True)
 def peak_oriented_move(par, d, f, dpos, dneg, delta, rate):
-    """The force [N], tangent [N/m] and excursions [m] after the drift moves monotonically from d to delta.
+    """The force [N], tangent [N/m] and excursions [m] after the drift moves monotonically from d to delta,
+    and whether the move's slope changes on the way.
 
     Parameters
     ----------
@@ -75,26 +87,32 @@ def peak_oriented_move(par, d, f, dpos, dneg, delta, rate):
     -------
     f, kt, dpos, dneg : float
         The force at delta, the slope of the segment it ends on, and the excursions.
+    bent : bool
+        A segment of the move has another slope than its first (by more than ``BEND`` k): the force is not
+        linear in the drift along the move.
     """
     k, fy, alpha, beta_u, pinch = par
     dy = fy / k
     m = 1.0 if (delta > d or (delta == d and rate >= 0.0)) else -1.0
     kt = k
+    k_first, bent = -1.0, False
     for _ in range(_MAX_SEGMENTS):
         if f * m < 0.0:  # unloading towards zero force
             ku = _unloading_stiffness(k, dy, alpha, beta_u, dpos if f > 0.0 else -dneg)
             d0 = d - f / ku
             kt = ku
+            k_first, bent = _bends(kt, k_first, k)
             if m * (delta - d0) <= 0.0:
-                return f + ku * (delta - d), kt, dpos, dneg
+                return f + ku * (delta - d), kt, dpos, dneg, bent
             d, f = d0, 0.0
             continue
         peak = dpos if m > 0.0 else dneg
         if m * d >= m * peak and m * f >= m * _backbone(d, m, k, dy, alpha) - 1e-12 * fy:
             # on the backbone, moving on: the excursion follows
             kt = alpha * k
+            k_first, b = _bends(kt, k_first, k)
             f += kt * (delta - d)
-            return f, kt, (delta if m > 0.0 else dpos), (delta if m < 0.0 else dneg)
+            return f, kt, (delta if m > 0.0 else dpos), (delta if m < 0.0 else dneg), bent or b
         d_aim, f_aim = peak, _backbone(peak, m, k, dy, alpha)
         if pinch > 0.0 and m * f < m * (1.0 - pinch) * f_aim:
             d_pinch = peak - pinch * f_aim / _unloading_stiffness(k, dy, alpha, beta_u, m * peak)
@@ -110,15 +128,17 @@ def peak_oriented_move(par, d, f, dpos, dneg, delta, rate):
             kt = k
         else:
             kt = (f_aim - f) / run
+        k_first, b = _bends(kt, k_first, k)
+        bent = bent or b
         if m * (delta - d_aim) <= 0.0:
-            return f + kt * (delta - d), kt, dpos, dneg
+            return f + kt * (delta - d), kt, dpos, dneg, bent
         d, f = d_aim, f_aim
         if m * d >= m * peak:  # the target reached: the backbone from here
             if m > 0.0:
                 dpos = d
             else:
                 dneg = d
-    return f + kt * (delta - d), kt, dpos, dneg
+    return f + kt * (delta - d), kt, dpos, dneg, bent
 
 
 @njit(cache=True)

@@ -227,9 +227,10 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         iteration.  The two agree to the Newton tolerance ``rtol`` (amplified by pounding's
         sensitivity to where an impact lands), the off switch the tests compare against.
     hysteretic_flight : bool
-        General driver, exact scheme, Bouc-Wen storeys (with or without bilinear ones): while every
-        gap is open an analysis step is one exact map with each Bouc-Wen storey's offset force
-        iterated within it (``_general_flight._hysteretic_flight``; default).  False: those rows take their
+        General driver, exact scheme, Bouc-Wen or peak-oriented storeys (with or without bilinear ones):
+        while every gap is open an analysis step is one exact map with each such storey's offset force
+        iterated within it (a peak-oriented storey whose tangent changes inside the step sends that step
+        to the physical path) (``_general_flight._hysteretic_flight``; default).  False: those rows take their
         physical path (Newmark substeps) throughout, the reference the tests compare against (the
         two differ by the physical path's time-discretisation error).
     tangent : bool
@@ -463,23 +464,23 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     nt = nsteps + 1 if store_history else 1
     p_tangent = row["p_tangent"]
     lev_free = int(round(math.log2(substeps))) if substeps else 0
-    from ..storey.codes import BILINEAR, BOUC_WEN
+    from ..storey.codes import BILINEAR, BOUC_WEN, PEAK_ORIENTED
 
     storeys = ~ne_gap
     codes = tab["ne_code"][storeys]
     bilinear = bool(np.all(codes == BILINEAR))  # every storey piecewise linear (or none)
-    # hysteretic storeys fly free with their terms iterated within the step, Bouc-Wen storeys always and
-    # bilinear ones while they yield (exact scheme only: the Newmark scheme's free flight must equal its
-    # physical path to round-off, the off switch's comparison)
-    bouc_wen = bool(storeys.any() and np.all((codes == BILINEAR) | (codes == BOUC_WEN))
-                    and scheme == "exact" and hysteretic_flight)
+    # hysteretic storeys fly free with their terms iterated within the step, Bouc-Wen and peak-oriented
+    # storeys always and bilinear ones while they yield (exact scheme only: the Newmark scheme's free flight
+    # must equal its physical path to round-off, the off switch's comparison)
+    hysteretic = bool(storeys.any() and np.all((codes == BILINEAR) | (codes == BOUC_WEN) | (codes == PEAK_ORIENTED))
+                      and scheme == "exact" and hysteretic_flight)
     ff = (_free_flight_maps(lambda: _renumbered_matrices(system, order), dof_motion, tab, ag.shape[0], dt, nm,
-                            scheme, 2 ** lev_free, bouc_wen)
-          if free_flight and (bilinear or bouc_wen) else None)
+                            scheme, 2 ** lev_free, hysteretic)
+          if free_flight and (bilinear or hysteretic) else None)
     el_pred = bool(elastic_predictor and storeys.any() and bilinear)
     i0 = np.zeros(1, np.int64)
     ff_args = ((True, ff.start, ff.off_x, ff.off_g, ff.off_e, ff.phi, ff.g0, ff.g1, ff.egx, ff.egg, ff.st_elem,
-                ff.st_start, ff.gc, ff.egc, ff.gq, ff.egq, bouc_wen) if ff is not None
+                ff.st_start, ff.gc, ff.egc, ff.gq, ff.egq, hysteretic) if ff is not None
                else (False, i0, i0, i0, i0, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 0)),
                      np.zeros(0, np.int64), i0, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), False))
 
@@ -622,7 +623,7 @@ def _free_flight_maps(matrices, dof_motion, tab, nm_rows, dt, nm, scheme, subste
     """The general driver's free-flight maps (``transition.Transition``), or None where they do not apply.
 
     The caller has checked that the elements with state are gaps and bilinear storeys (piecewise
-    linear: free flight while every storey is elastic) or, with ``quadratic``, Bouc-Wen storeys too
+    linear: free flight while every storey is elastic) or, with ``quadratic``, Bouc-Wen and peak-oriented storeys too
     (their offsets a quadratic load within the step: ``transition._exact_maps``).  They apply when every building is a
     contiguous run of at most ``transition.MAX_BLOCK_DOFS`` DOFs and, for the Newmark scheme, the rule
     is average acceleration (whose trapezoidal energy sums the free-flight balance reproduces).

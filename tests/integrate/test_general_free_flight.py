@@ -105,13 +105,18 @@ def test_exact_free_flight_keeps_the_energy_balance():
     assert e[-1, 5] > 0.0
 
 
-def test_bouc_wen_storeys_fly_free_with_their_offsets_iterated():
-    """A smooth hysteresis has no elastic range: its storeys fly free with their offset forces iterated
-    within each step (``_general_flight._hysteretic_flight``), the scheme says exact, and the off switch puts every
-    step back on the physical path (its accuracy against the twin: ``tests/verification/test_yielding_storeys``)."""
+@pytest.mark.parametrize("law", [dict(kind="bouc-wen", n=2.0),
+                                 dict(kind="peak-oriented", unloading_exponent=0.4, pinching=0.3)],
+                         ids=["bouc-wen", "peak-oriented"])
+def test_hysteretic_storeys_fly_free_with_their_offsets_iterated(law):
+    """A smooth hysteresis has no elastic range, and a peak-oriented one leaves it at its first yield: their
+    storeys fly free with their offset forces iterated within each step (``_general_flight._hysteretic_flight``;
+    a peak-oriented storey whose slope changes inside the step sends it to the physical path), the scheme says
+    exact, and the off switch puts every step back on the physical path (their accuracy against the twins:
+    ``tests/verification/test_yielding_storeys``, ``tests/verification/test_peak_oriented_storeys``)."""
     m, system, rows = _case("yielding storeys", seconds=2.0)
     for b in m.buildings:
-        b.storey_law = StoreyLaw(kind="bouc-wen", yield_drift=0.01, post_yield_ratio=0.05, n=2.0)
+        b.storey_law = StoreyLaw(yield_drift=0.01, post_yield_ratio=0.05, **law)
         b.validate()
     m.__dict__.pop("_assembled", None)
     system, motions = run_inputs(m)

@@ -131,3 +131,46 @@ def test_unloading_never_flatter_than_the_peaks_secant_so_every_loop_dissipates(
     bounds = np.flatnonzero(np.isin(np.round(cyc / DY, 9), (10, -10, -12, 12)))
     per_cycle = [work[a:b].sum() for a, b in zip(bounds[:-2:2], bounds[2::2])]
     assert min(per_cycle) > 0.0
+
+
+def _path_by_walking(par, committed, cubic):
+    """The force [N] at the middle and the end of delta(tau) = d0 + ca tau + cb tau^2 + cc tau^3 and the end's
+    tangent [N/m], walked through the material protocol from ``committed`` in 4000 pieces (rate independent:
+    exact to round-off at the pieces' ends)."""
+    ca, cb, cc = cubic
+    fine = np.linspace(0.0, 1.0, 4001)[1:]
+    st, trial = committed.copy(), np.zeros_like(committed)
+    f, kt = np.zeros(fine.size), np.zeros(fine.size)
+    for i, x in enumerate(committed[0, 1] + fine * (ca + fine * (cb + fine * cc))):
+        f[i], kt[i], _ = material_trial(C.PEAK_ORIENTED, par, st, trial, 0, x, 0.0)
+        material_commit(st, trial, 0)
+    return f[1999], f[-1], kt[-1]
+
+
+@pytest.mark.parametrize("start, cubic, bends", [
+    (0.3, (0.4, 0.0, 0.0), False),  # virgin, elastic both ways: never bends
+    (-0.5, (1.0, 1.2, -1.6), False),  # virgin, through zero force and a turning point, inside +-dy
+    (0.5, (1.0, 0.0, 0.0), True),  # virgin to 1.5 dy: yields at dy
+    (2.5, (0.3, -0.6, 0.0), False),  # on the backbone at 2.5 dy, on along it, unloading after a turning point
+], ids=["elastic", "through-zero-and-turning", "yields", "backbone-then-unloading"])
+def test_the_flight_path_follows_the_protocol_and_reports_its_bends(start, cubic, bends):
+    """``peak_oriented_path`` (the free-flight step's view of the law) against the protocol walked in 4000
+    pieces: the end force, z at the middle and the end (z = delta - (k delta - f) / ((1 - alpha) k)), and the
+    slopes where the path does not bend (closed form: the law is piecewise linear)."""
+    from seispound.integrate._material import peak_oriented_path
+
+    par = _par(0.4, 0.3)
+    committed = _walk(par, np.array([start]) * DY)[2]  # (beyond dy: on the backbone)
+    d0 = start * DY
+    ca, cb, cc = (c * DY for c in cubic)
+    zm, z1, pm, p1, bent, f1, dpos, dneg = peak_oriented_path(par, 0, committed, d0, ca, cb, cc)
+    assert bent == bends
+    fm_ref, f1_ref, kt_ref = _path_by_walking(par, committed, (ca, cb, cc))
+    assert f1 == pytest.approx(f1_ref, abs=1e-10 * FY)
+    if not bends:
+        scale = (1.0 - ALPHA) * K
+        dm, d1 = d0 + 0.5 * ca + 0.25 * cb + 0.125 * cc, d0 + ca + cb + cc
+        assert zm == pytest.approx(dm - (K * dm - fm_ref) / scale, abs=1e-10 * DY)
+        assert z1 == pytest.approx(d1 - (K * d1 - f1_ref) / scale, abs=1e-10 * DY)
+        assert p1 == pytest.approx(1.0 - (K - kt_ref) / scale, abs=1e-12)
+    assert dpos >= DY and dneg <= -DY

@@ -297,10 +297,11 @@ def general_kernel(linear, p, numbering, elements, state0, motion, init, setting
     tangent : a group of active elements that holds a storey iterates on the banded tangent
     (``_general_solve._newton_tangent``, half bandwidth pT with the storeys); False: every group on the dense
     condensed system (``_newton``), the off switch the tests compare against.
-    el_pred: every storey is bilinear, and a physical step first tries them at their elastic stiffness in
-    the linear part (Newton on the closed gaps alone), kept if every storey ends the step elastic.
+    el_pred: every storey is bilinear or peak-oriented, and a physical step first tries them at their
+    elastic stiffness in the linear part (Newton on the closed gaps alone), kept if every storey ends the
+    step on that line.
     ff = (on, start, off_x, off_g, off_e, phi, G0, G1, Egx, Egg, st_elem, st_start, Gc, Egc, Gq, Egq, bw):
-    while every gap is open (and every storey, if any, is bilinear or, with ``bw``, Bouc-Wen: ``on``
+    while every gap is open (and every storey, if any, is bilinear or, with ``bw``, Bouc-Wen or peak-oriented: ``on``
     says so) an analysis step is one map per building (``transition.py``: exact, or the same Newmark
     substeps composed), screened for gap events and for elastic bilinear storeys reaching yield, the
     terms of the Bouc-Wen storeys and, with ``bw``, of the yielding bilinear ones iterated within it

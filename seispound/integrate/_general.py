@@ -58,8 +58,9 @@ from ._events import ACCEPT, AT_ONCE, FAILED, LAND_TOL, REDO, _event_in_step, _l
 from ._general_flight import _free_flight
 from ._general_solve import N_LEVELS, _acceleration, _cached_factor, _factor_cache, _predictor, _solve_groups
 from ._ground import GU0, GU1, _gap_ground_all, _ground_all, _tick
-from ..storey.codes import B_K
+from ..storey.codes import B_FY, B_K, PEAK_ORIENTED
 from ._material import material_commit, material_energy, material_trial
+from ._peak_oriented import BEND, ST_D, ST_F
 from ._outputs import (
     E_CONTACT,
     E_DAMPING,
@@ -209,9 +210,9 @@ def _trial(h, lev, clk, cnt, lp, model, work, outs, stats):
     """One attempt at a step of h [s] from t: the step on the factor grid, the ground at its end, A's factor,
     the PREDICTOR and the ITERATIONS.
 
-    Phase 0, the elastic predictor (every storey bilinear, ``el_pred``): the storeys at their elastic
-    stiffness in the linear part, Newton on the closed gaps alone, kept if every storey ends the step
-    elastic.  Phase 1: the predictor with every element force of state frozen at zero, then Newton on
+    Phase 0, the elastic predictor (every storey bilinear or peak-oriented, ``el_pred``): the storeys at
+    their elastic stiffness in the linear part, Newton on the closed gaps alone, kept if every storey ends
+    the step on that line (``_kept_elastic``).  Phase 1: the predictor with every element force of state frozen at zero, then Newton on
     the active elements' forces, condensed through A^-1 (``_solve_groups``).  clk = (analysis step, t);
     cnt = (impacts, active elements, their groups); lp = (the step of A's band h_A, K u + C v stale).
     Returns (ok: A positive definite, converged, h on the grid, (1/(beta h^2), gamma/(beta h)), lp).
@@ -275,11 +276,24 @@ def _trial(h, lev, clk, cnt, lp, model, work, outs, stats):
             if elastic and not ne_gap[q]:
                 ds, rs = _deformation(ne_dof, ne_coef, ne_size, q, u, Du, Vv, cc, gk, GU1)
                 f, dfd, dfv = material_trial(ne_code[q], ne_par, st_c, st_t, q, ds, rs)
-                elastic = dfd == ne_par[q, B_K]
+                elastic = _kept_elastic(ne_code[q], ne_par, st_c, q, ds, f, dfd)
                 F1[q] = f
         if elastic:
             return True, True, h, (cm, cc), (h_A, lp[1])
     return True, True, h, (cm, cc), (h_A, lp[1])  # (not reached: phase 1 returns)
+
+
+@njit(cache=True, inline="always")
+def _kept_elastic(code, par, st_c, q, ds, f, dfd):
+    """Did storey q's trial at deformation ds [m] (force f [N], tangent dfd [N/m]) stay on the line of slope k
+    through its committed point, as the elastic predictor took it?  A bilinear storey: inside its elastic
+    range (tangent k).  A peak-oriented storey: its force is the committed one moved along k, to round-off
+    (the virgin storey's unloading and reloading lines are one line), and its tangent is k."""
+    k = par[q, B_K]
+    if code == PEAK_ORIENTED:
+        return (abs(dfd - k) <= BEND * k
+                and abs(f - st_c[q, ST_F] - k * (ds - st_c[q, ST_D])) <= 1e-12 * par[q, B_FY])
+    return dfd == k
 
 
 @njit(cache=True, inline="always")

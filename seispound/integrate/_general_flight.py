@@ -63,9 +63,11 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
         if ne_code[q] == BOUC_WEN:  # c = (1 - alpha) k (delta - z) at the step's start
             cst[j] = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * (st_c[q, ST_DELTA] - st_c[q, ST_Z])
             itr[j] = True
-        elif ne_code[q] == PEAK_ORIENTED:  # c = k delta - f, iterated on every segment (k_t = k: c fixed)
-            cst[j] = ne_par[q, B_K] * st_c[q, ST_D] - st_c[q, ST_F]
-            itr[j] = True
+        elif ne_code[q] == PEAK_ORIENTED:  # c = k delta - f: fixed while a virgin storey stays within +-dy,
+            cst[j] = ne_par[q, B_K] * st_c[q, ST_D] - st_c[q, ST_F]  # iterated once it has yielded
+            itr[j] = not _virgin(ne_par, st_c, q)
+            if not itr[j]:
+                rise[2 * j], rise[2 * j + 1] = 0.0, 0.0
         else:  # a yielding bilinear storey's c is iterated as a Bouc-Wen storey's (z = q_h / k)
             cst[j] = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * st_c[q, ST_PLASTIC]
             itr[j] = ff[16] and abs(st_c[q, ST_Q]) >= (1.0 - B_ON_SURFACE) * ne_par[q, B_FY]
@@ -106,12 +108,20 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
 
 
 @njit(cache=True, inline="always")
+def _virgin(par, st_c, q):
+    """Has peak-oriented storey q never passed its yield drift (its excursions at +-dy or unset: its force
+    k delta within +-dy, as an elastic bilinear storey's)?"""
+    dy = par[q, B_FY] / par[q, B_K]
+    return st_c[q, ST_DPOS] <= dy and st_c[q, ST_DNEG] >= -dy
+
+
+@njit(cache=True, inline="always")
 def _elastic_through(ff, elg, st_c, x, dr1, gk, dt, cst, terms, dwh):
-    """Does each bilinear storey whose term is not iterated stay within its elastic range over the whole
-    free-flight step (the cubic bound of ``_events``)?  Returns (ok, dwh plus those storeys' work [J]); fills
+    """Does each bilinear (or virgin peak-oriented) storey whose term is not iterated stay within its elastic
+    range over the whole free-flight step (the cubic bound of ``_events``)?  Returns (ok, dwh plus those storeys' work [J]); fills
     each storey's end deformation and rate, at the end state x = (u1, v1), into dr1 = (d1, r1) (an iterated
     storey's from its path: terms = (zs, itr, dr), ``_hysteretic_flight``; dr holds the start's)."""
-    ne_dof, ne_coef, ne_size, ne_par = elg[0], elg[1], elg[2], elg[4]
+    ne_dof, ne_coef, ne_size, ne_code, ne_par = elg[0], elg[1], elg[2], elg[3], elg[4]
     u1, v1 = x
     d1, r1 = dr1
     zs, itr, dr = terms
@@ -122,8 +132,9 @@ def _elastic_through(ff, elg, st_c, x, dr1, gk, dt, cst, terms, dwh):
             d1[q] = zs[6 * j + 2]
             continue
         k = ne_par[q, B_K]
-        hi = st_c[q, ST_PLASTIC] + ne_par[q, B_FY] / k
-        lo = st_c[q, ST_PLASTIC] - ne_par[q, B_FY] / k
+        centre = 0.0 if ne_code[q] == PEAK_ORIENTED else st_c[q, ST_PLASTIC]  # (a virgin one: f = k delta)
+        hi = centre + ne_par[q, B_FY] / k
+        lo = centre - ne_par[q, B_FY] / k
         ds0, rs0 = dr[4 * j], dr[4 * j + 1]
         ds1, rs1 = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
         tol = 1e-12 * (hi - lo)

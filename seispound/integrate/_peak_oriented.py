@@ -101,7 +101,8 @@ def peak_oriented_move(par, d, f, dpos, dneg, delta, rate):
             ku = _unloading_stiffness(k, dy, alpha, beta_u, dpos if f > 0.0 else -dneg)
             d0 = d - f / ku
             kt = ku
-            k_first, bent = _bends(kt, k_first, k)
+            k_first, b = _bends(kt, k_first, k)
+            bent = bent or b
             if m * (delta - d0) <= 0.0:
                 return f + ku * (delta - d), kt, dpos, dneg, bent
             d, f = d0, 0.0

@@ -301,8 +301,8 @@ def general_kernel(linear, p, numbering, elements, state0, motion, init, setting
     elastic stiffness in the linear part (Newton on the closed gaps alone), kept if every storey ends the
     step on that line.
     ff = (on, start, off_x, off_g, off_e, phi, G0, G1, Egx, Egg, st_elem, st_start, Gc, Egc, Gq, Egq, bw):
-    while every gap is open (and every storey, if any, is bilinear or, with ``bw``, Bouc-Wen or peak-oriented: ``on``
-    says so) an analysis step is one map per building (``transition.py``: exact, or the same Newmark
+    while every gap is open (and every storey, if any, is bilinear or, with ``bw``, Bouc-Wen or
+    peak-oriented: ``on`` says so) an analysis step is one map per building (``transition.py``: exact, or the same Newmark
     substeps composed), screened for gap events and for elastic bilinear storeys reaching yield, the
     terms of the Bouc-Wen storeys and, with ``bw``, of the yielding bilinear ones iterated within it
     (``_general_flight``); on False, or when the screen finds an event, the step is taken on the physical

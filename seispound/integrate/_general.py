@@ -212,8 +212,8 @@ def _trial(h, lev, clk, cnt, lp, model, work, outs, stats):
 
     Phase 0, the elastic predictor (every storey bilinear or peak-oriented, ``el_pred``): the storeys at
     their elastic stiffness in the linear part, Newton on the closed gaps alone, kept if every storey ends
-    the step on that line (``_kept_elastic``).  Phase 1: the predictor with every element force of state frozen at zero, then Newton on
-    the active elements' forces, condensed through A^-1 (``_solve_groups``).  clk = (analysis step, t);
+    the step on that line (``_kept_elastic``).  Phase 1: the predictor with every element force of state
+    frozen at zero, then Newton on the active elements' forces, condensed through A^-1 (``_solve_groups``).  clk = (analysis step, t);
     cnt = (impacts, active elements, their groups); lp = (the step of A's band h_A, K u + C v stale).
     Returns (ok: A positive definite, converged, h on the grid, (1/(beta h^2), gamma/(beta h)), lp).
     """

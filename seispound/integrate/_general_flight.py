@@ -1,12 +1,12 @@
 """Free flight on the general driver: an analysis step with every gap open by each building's state-transition map.
 
 Private to the general driver (``_general.py``).  While every gap is open and every storey is bilinear,
-Bouc-Wen or peak-oriented, each building moves by its own linear map over the analysis step (``transition.py``: exact
-for the piecewise-linear ground motion, or the same Newmark substeps composed), with each bilinear
-storey's plastic offset and each Bouc-Wen or peak-oriented storey's offset force as inputs.  The step is screened for gap
-events and for elastic bilinear storeys reaching yield (``_events``' cubic bound); the offsets of the
-Bouc-Wen and peak-oriented storeys and of the bilinear storeys that are yielding at the step's start are iterated within
-the step (``_hysteretic_flight``).  An accepted step commits the state, the storeys' laws and the energies;
+Bouc-Wen or peak-oriented, each building moves by its own linear map over the analysis step
+(``transition.py``: exact for the piecewise-linear ground motion, or the same Newmark substeps composed),
+with each bilinear storey's plastic offset and each Bouc-Wen or peak-oriented storey's offset force as
+inputs.  The step is screened for gap events and for elastic bilinear (or virgin peak-oriented) storeys
+reaching yield (``_events``' cubic bound); the offsets of the Bouc-Wen storeys and of the peak-oriented and
+bilinear storeys that have yielded are iterated within the step (``_hysteretic_flight``).  An accepted step commits the state, the storeys' laws and the energies;
 one that is not leaves the state as it was, and the driver takes the step on its physical path.
 """
 
@@ -18,7 +18,7 @@ from seispound._jit import njit
 from ._elements import _deformation_at, kinetic_energy
 from ._events import _event_in_step, _hermite, _screen_elements
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
-from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY, PEAK_ORIENTED
+from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY, PEAK_ORIENTED, PO_FY, PO_K
 from ._material import (B_ON_SURFACE, ST_DELTA, ST_EPS, ST_PLASTIC, ST_Q, ST_Z, bilinear_dy, bilinear_path,
                         bouc_wen_path, material_commit, material_trial, peak_oriented_path)
 from ._peak_oriented import ST_D, ST_DNEG, ST_DPOS, ST_F
@@ -66,13 +66,11 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
         elif ne_code[q] == PEAK_ORIENTED:  # c = k delta - f: fixed while a virgin storey stays within +-dy,
             cst[j] = ne_par[q, B_K] * st_c[q, ST_D] - st_c[q, ST_F]  # iterated once it has yielded
             itr[j] = not _virgin(ne_par, st_c, q)
-            if not itr[j]:
-                rise[2 * j], rise[2 * j + 1] = 0.0, 0.0
         else:  # a yielding bilinear storey's c is iterated as a Bouc-Wen storey's (z = q_h / k)
             cst[j] = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * st_c[q, ST_PLASTIC]
             itr[j] = ff[16] and abs(st_c[q, ST_Q]) >= (1.0 - B_ON_SURFACE) * ne_par[q, B_FY]
-            if not itr[j]:
-                rise[2 * j], rise[2 * j + 1] = 0.0, 0.0
+        if not itr[j]:  # (a term iterated later starts from no rise)
+            rise[2 * j], rise[2 * j + 1] = 0.0, 0.0
         n_itr += 1 if itr[j] else 0
     _ground_all(ag, t_end, dt, g_1)
     de = _free_flight_trial(ff, u, v, g_t, g_1, u1, v1, a1, xs, ys, cst)
@@ -111,15 +109,15 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
 def _virgin(par, st_c, q):
     """Has peak-oriented storey q never passed its yield drift (its excursions at +-dy or unset: its force
     k delta within +-dy, as an elastic bilinear storey's)?"""
-    dy = par[q, B_FY] / par[q, B_K]
+    dy = par[q, PO_FY] / par[q, PO_K]
     return st_c[q, ST_DPOS] <= dy and st_c[q, ST_DNEG] >= -dy
 
 
 @njit(cache=True, inline="always")
 def _elastic_through(ff, elg, st_c, x, dr1, gk, dt, cst, terms, dwh):
     """Does each bilinear (or virgin peak-oriented) storey whose term is not iterated stay within its elastic
-    range over the whole free-flight step (the cubic bound of ``_events``)?  Returns (ok, dwh plus those storeys' work [J]); fills
-    each storey's end deformation and rate, at the end state x = (u1, v1), into dr1 = (d1, r1) (an iterated
+    range over the whole free-flight step (the cubic bound of ``_events``)?  Returns (ok, dwh plus those
+    storeys' work [J]); fills each storey's end deformation and rate, at the end state x = (u1, v1), into dr1 = (d1, r1) (an iterated
     storey's from its path: terms = (zs, itr, dr), ``_hysteretic_flight``; dr holds the start's)."""
     ne_dof, ne_coef, ne_size, ne_code, ne_par = elg[0], elg[1], elg[2], elg[3], elg[4]
     u1, v1 = x

@@ -472,8 +472,8 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     # hysteretic storeys fly free with their terms iterated within the step, Bouc-Wen and peak-oriented
     # storeys always and bilinear ones while they yield (exact scheme only: the Newmark scheme's free flight
     # must equal its physical path to round-off, the off switch's comparison)
-    hysteretic = bool(storeys.any() and np.all((codes == BILINEAR) | (codes == BOUC_WEN) | (codes == PEAK_ORIENTED))
-                      and scheme == "exact" and hysteretic_flight)
+    with_history = (codes == BILINEAR) | (codes == BOUC_WEN) | (codes == PEAK_ORIENTED)
+    hysteretic = bool(storeys.any() and np.all(with_history) and scheme == "exact" and hysteretic_flight)
     ff = (_free_flight_maps(lambda: _renumbered_matrices(system, order), dof_motion, tab, ag.shape[0], dt, nm,
                             scheme, 2 ** lev_free, hysteretic)
           if free_flight and (bilinear or hysteretic) else None)

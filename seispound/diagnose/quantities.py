@@ -22,7 +22,8 @@ Quantities (units in each entry):
   of the rod floor as modelled), the axial damping ratio; or, for a body on a compliant joint,
   the body's mass and its natural frequency on the joint;
 * inelastic-storey: each building's yield drift, the post-yield stiffness ratio (and Bouc-Wen's
-  exponent, or a peak-oriented law's unloading exponent and pinching); a yield drift larger than every storey deformation of the fitted run is not identified
+  exponent, a peak-oriented law's unloading exponent and pinching, or an Iwan law's spread of yield drifts
+  and self-centring share); a yield drift larger than every storey deformation of the fitted run is not identified
   (a Bouc-Wen or degrading storey departs from linearity below it, and the fit reads that, not the yield);
 * velocity-dependent-restitution: e at impact velocities of 0.1 and 0.5 m/s, and the change of e
   between them (the velocity dependence itself, marked ``defining``);
@@ -237,7 +238,9 @@ def _yielding(fit, data, reach=None):
                       ("stiffness_degradation", "stiffness degradation rate delta_eta (Baber & Wen)"),
                       ("pinching", pinch),
                       ("pinching_rate", "pinching growth rate p with the hysteretic energy (Foliente)"),
-                      ("pinching_width", "pinching width over the yield drift psi (Foliente)")):
+                      ("pinching_width", "pinching width over the yield drift psi (Foliente)"),
+                      ("yield_spread", "spread s of the sliders' yield drifts about dy, decades (Iwan)"),
+                      ("self_centring", "self-centring share of the hysteretic stiffness (Iwan)")):
         path = f"building.*.storey_law.{key}"
         if path in fit.parameters:
             out.append(_delta(fit, what, "-", lambda x, p=path: x[p], [path]))

@@ -9,6 +9,7 @@ LINEAR = 0  # an elastic storey (a linear spring of the linear part)
 BILINEAR = 20  # kinematic hardening
 BOUC_WEN = 21  # smooth hysteresis (Bouc 1967, Wen 1976)
 PEAK_ORIENTED = 22  # stiffness-degrading, peak-oriented (Clough & Johnston 1966; Takeda, Sozen & Nielsen 1970)
+IWAN = 23  # distributed-element (Iwan 1966): Masing's rules, optionally partly self-centring
 
 # parameter columns of BILINEAR: initial stiffness k [N/m], yield force fy [N], post-yield ratio alpha [-]
 B_K, B_FY, B_ALPHA = 0, 1, 2
@@ -22,6 +23,10 @@ BW_PINCH, BW_PINCH_RATE, BW_PINCH_WIDTH = 8, 9, 10
 # stiffness's exponent beta_u [-] (Otani 1974: k_u = k (dy / d_m)^beta_u) and the pinching severity [-]
 # (reloading first aims at (1 - pinching) times its target force)
 PO_K, PO_FY, PO_ALPHA, PO_UNLOAD, PO_PINCH = 0, 1, 2, 3, 4
+# parameter columns of IWAN: k [N/m], the sliders' geometric-mean yield drift dy [m], alpha [-], the spread s of
+# the sliders' yield drifts [decades] and the self-centring share c of the hysteretic stiffness [-] (``_iwan``)
+IW_K, IW_DY, IW_ALPHA, IW_SPREAD, IW_CENTRING = 0, 1, 2, 3, 4
+IWAN_SLIDERS = 8  # elastic-perfectly-plastic sliders of an Iwan storey (a state column each)
 N_STOREY_PAR = 11
 
-NAMES = {"elastic": LINEAR, "bilinear": BILINEAR, "bouc-wen": BOUC_WEN, "peak-oriented": PEAK_ORIENTED}
+NAMES = {"elastic": LINEAR, "bilinear": BILINEAR, "bouc-wen": BOUC_WEN, "peak-oriented": PEAK_ORIENTED, "iwan": IWAN}

@@ -1,4 +1,5 @@
-"""Hysteretic storey laws: bilinear with kinematic hardening, Bouc-Wen, and peak-oriented (Clough, Takeda)."""
+"""Hysteretic storey laws: bilinear with kinematic hardening, Bouc-Wen, peak-oriented (Clough, Takeda) and Iwan's
+distributed-element law (Masing's rules, optionally self-centring)."""
 
 from __future__ import annotations
 
@@ -24,7 +25,7 @@ class StoreyLaw:
 
     Parameters
     ----------
-    kind : {"elastic", "bilinear", "bouc-wen", "peak-oriented"}
+    kind : {"elastic", "bilinear", "bouc-wen", "peak-oriented", "iwan"}
         "bilinear": kinematic hardening, F = alpha k d + (1 - alpha) q,
         |q| <= fy (Simo & Hughes 1998, Sec. 1.4); "bouc-wen":
         F = alpha k d + (1 - alpha) k z with dz/dt = d'(t) (1 - |z/dy|^n
@@ -35,7 +36,11 @@ class StoreyLaw:
         peak d_m) and reloading aimed at the largest
         excursion on the side it moves to (Clough & Johnston 1966; Takeda,
         Sozen & Nielsen 1970, with Otani's 1974 unloading), optionally
-        pinched (the rules: ``seispound.integrate._peak_oriented``); k the
+        pinched (the rules: ``seispound.integrate._peak_oriented``); "iwan":
+        a linear spring alpha k, eight elastic-perfectly-plastic sliders whose
+        yield drifts spread geometrically about dy, and optionally a
+        self-centring nonlinear-elastic spring (Iwan 1966, J. Appl. Mech.
+        33(4), 893-900: Masing's rules; ``seispound.integrate._iwan``); k the
         storey's ``storey_stiffness``.
     yield_drift : float or list, [m]
         dy; or give ``yield_force`` fy [N] (dy = fy / k).  Exactly one of the two.
@@ -61,6 +66,13 @@ class StoreyLaw:
         Peak-oriented: the severity s in [0, 1) of the pinch, reloading first
         aims at (1 - s) times its target force on the target side's unloading
         line (Roufaiel & Meyer 1987); default 0, none.  Bouc-Wen: below.
+    yield_spread : float, [decades]
+        Iwan only: s in [0, 1] (default 0: every slider yields at dy); the
+        sliders' yield drifts are dy 10^(s (2 (i + 1/2) / 8 - 1)), i = 0..7.
+    self_centring : float, [-]
+        Iwan only: c in [0, 1), the share of the hysteretic stiffness
+        (1 - alpha) k in a nonlinear-elastic spring that saturates at dy
+        (default 0: none; the loop narrows to a flag as c grows).
     pinching, pinching_rate, pinching_width : float, [-]
         Bouc-Wen only: the loop pinches near zero force as in Baber & Noori (1985,
         J. Eng. Mech. 111(8), 1010-1026) and Foliente (1995, J. Struct. Eng. 121(6),
@@ -84,6 +96,8 @@ class StoreyLaw:
     pinching: float = 0.0
     pinching_rate: float = 1.0
     pinching_width: float = 0.2
+    yield_spread: float = 0.0
+    self_centring: float = 0.0
 
     @property
     def code(self) -> int:
@@ -147,6 +161,14 @@ class StoreyLaw:
         if v and self.kind != "peak-oriented":
             raise InputError("the unloading exponent is a peak-oriented storey's (Otani 1974)",
                              key=f"{key}.unloading_exponent")
+        for f, hi, closed in (("yield_spread", 1.0, True), ("self_centring", 1.0, False)):
+            v = getattr(self, f)
+            ok = isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+            if not ok or not (0.0 <= v <= hi if closed else 0.0 <= v < hi):
+                raise InputError(f"must be a finite number in [0, 1{']' if closed else ')'}, got {v!r}",
+                                 key=f"{key}.{f}")
+            if v and self.kind != "iwan":
+                raise InputError(f"{f.replace('_', ' ')} is an Iwan storey's", key=f"{key}.{f}")
 
     def _per_storey(self, field, n_storeys, key, positive=False) -> np.ndarray:
         arr = number_array(getattr(self, field), f"{key}.{field}")
@@ -178,6 +200,9 @@ class StoreyLaw:
         elif self.kind == "peak-oriented":
             par[:, C.PO_K], par[:, C.PO_FY], par[:, C.PO_ALPHA] = k, k * dy, alpha
             par[:, C.PO_UNLOAD], par[:, C.PO_PINCH] = self.unloading_exponent, self.pinching
+        elif self.kind == "iwan":
+            par[:, C.IW_K], par[:, C.IW_DY], par[:, C.IW_ALPHA] = k, dy, alpha
+            par[:, C.IW_SPREAD], par[:, C.IW_CENTRING] = self.yield_spread, self.self_centring
         else:
             par[:, C.BW_K], par[:, C.BW_DY], par[:, C.BW_ALPHA] = k, dy, alpha
             par[:, C.BW_N], par[:, C.BW_BETA], par[:, C.BW_GAMMA] = self.n, self.beta, self.gamma

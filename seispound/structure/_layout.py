@@ -167,6 +167,8 @@ def _scaled(row, code, share):
         row[[C.PO_K, C.PO_FY]] *= share
     elif code == C.BOUC_WEN:
         row[C.BW_K] *= share
+    elif code == C.IWAN:
+        row[C.IW_K] *= share
     return row
 
 

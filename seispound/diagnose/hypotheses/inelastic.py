@@ -1,5 +1,6 @@
-"""Inelastic storeys: bilinear, Bouc-Wen with a fitted exponent, degrading, pinching Bouc-Wen hysteresis, and the
-peak-oriented law of reinforced-concrete storeys (Clough, Takeda), optionally pinched."""
+"""Inelastic storeys: bilinear, Bouc-Wen with a fitted exponent, degrading, pinching Bouc-Wen hysteresis, the
+peak-oriented law of reinforced-concrete storeys (Clough, Takeda), optionally pinched, and Iwan's
+distributed-element law (Masing's rules), optionally self-centring."""
 
 from __future__ import annotations
 
@@ -68,7 +69,24 @@ def _peak_oriented(d):
     return specs, null
 
 
+def _iwan(d):
+    # hysteresis that follows Masing's rules (Iwan 1966: elastic-perfectly-plastic sliders whose yield drifts
+    # spread about dy), a share of it optionally self-centring (a flag-shaped loop): a yield drift per building;
+    # the post-yield ratio, the spread and the self-centring share one value for the row (null: never yields;
+    # the spread starts mid-range, the loop full)
+    specs = ["building.*.storey_law.post_yield_ratio=0.005:0.5", "building.*.storey_law.yield_spread=0:1",
+             "building.*.storey_law.self_centring=0:0.95"]
+    null = {"building.*.storey_law.post_yield_ratio": 0.05, "building.*.storey_law.yield_spread": 0.5,
+            "building.*.storey_law.self_centring": 0.0}
+    for b in d["building"]:
+        b["storey_law"] = {"kind": "iwan", "yield_drift": 0.02, "post_yield_ratio": 0.05, "yield_spread": 0.5,
+                           "self_centring": 0.0}
+        specs.append(f"building.{b['name']}.storey_law.yield_drift=0.0005:5")
+        null[f"building.{b['name']}.storey_law.yield_drift"] = 5.0
+    return specs, null
+
+
 HYPOTHESIS = Hypothesis(
     "inelastic-storey", "storeys that yield",
     "residual that grows after the strongest shaking, with a permanent drift in the roof displacement",
-    forms=(_bouc_wen, _bilinear, _degrading, _peak_oriented), why_not=needs_buildings)
+    forms=(_bouc_wen, _bilinear, _degrading, _peak_oriented, _iwan), why_not=needs_buildings)

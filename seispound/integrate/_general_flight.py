@@ -18,9 +18,10 @@ from seispound._jit import njit
 from ._elements import _deformation_at, kinetic_energy
 from ._events import _event_in_step, _hermite, _screen_elements
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
-from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY, PEAK_ORIENTED, PO_FY, PO_K
+from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY, IWAN, PEAK_ORIENTED, PO_FY, PO_K
 from ._material import (B_ON_SURFACE, ST_DELTA, ST_EPS, ST_PLASTIC, ST_Q, ST_Z, bilinear_dy, bilinear_path,
                         bouc_wen_path, material_commit, material_trial, peak_oriented_path)
+from ._iwan import iwan_window
 from ._peak_oriented import ST_D, ST_DNEG, ST_DPOS, ST_F
 from ._outputs import S_DOF_STEPS, S_FREE_FLIGHT, S_ITERATIONS, S_STEPS
 
@@ -66,6 +67,9 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
         elif ne_code[q] == PEAK_ORIENTED:  # c = k delta - f: fixed while a virgin storey stays within +-dy,
             cst[j] = ne_par[q, B_K] * st_c[q, ST_D] - st_c[q, ST_F]  # iterated once it has yielded
             itr[j] = not _virgin(ne_par, st_c, q)
+        elif ne_code[q] == IWAN:  # c = sum k_i p_i: fixed while every spring is elastic, never iterated
+            cst[j] = iwan_window(ne_par, st_c, q)[2]
+            itr[j] = False
         else:  # a yielding bilinear storey's c is iterated as a Bouc-Wen storey's (z = q_h / k)
             cst[j] = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * st_c[q, ST_PLASTIC]
             itr[j] = ff[16] and abs(st_c[q, ST_Q]) >= (1.0 - B_ON_SURFACE) * ne_par[q, B_FY]
@@ -130,12 +134,17 @@ def _elastic_through(ff, elg, st_c, x, dr1, gk, dt, cst, terms, dwh):
             d1[q] = zs[6 * j + 2]
             continue
         k = ne_par[q, B_K]
-        centre = 0.0 if ne_code[q] == PEAK_ORIENTED else st_c[q, ST_PLASTIC]  # (a virgin one: f = k delta)
-        hi = centre + ne_par[q, B_FY] / k
-        lo = centre - ne_par[q, B_FY] / k
         ds0, rs0 = dr[4 * j], dr[4 * j + 1]
+        if ne_code[q] == IWAN:  # (an Iwan storey that starts outside its elastic window: a yielding one)
+            lo, hi = iwan_window(ne_par, st_c, q)[:2]
+            if ds0 > hi + 1e-12 * abs(hi) or ds0 < lo - 1e-12 * abs(lo):
+                return False, 0.0
+        else:
+            centre = 0.0 if ne_code[q] == PEAK_ORIENTED else st_c[q, ST_PLASTIC]  # (a virgin one: f = k delta)
+            hi = centre + ne_par[q, B_FY] / k
+            lo = centre - ne_par[q, B_FY] / k
         ds1, rs1 = _deformation_at(ne_dof, ne_coef, ne_size, q, u1, v1, gk, GU1)
-        tol = 1e-12 * (hi - lo)
+        tol = 1e-12 * abs(hi - lo)
         if (_event_in_step(ds0 - hi, rs0, ds1 - hi, rs1, dt, True, tol) <= 1.0
                 or _event_in_step(lo - ds0, -rs0, lo - ds1, -rs1, dt, True, tol) <= 1.0):
             return False, 0.0

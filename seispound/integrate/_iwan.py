@@ -94,3 +94,22 @@ def iwan_energy(par, state, q, delta):
         x = delta - state[q, i]
         e += 0.5 * ki * x * x
     return e
+
+
+@njit(cache=True, inline="always")
+def iwan_window(par, state, q):
+    """(lo, hi [m], c [N]) of Iwan storey q in ``state``: the drifts between which every spring stays elastic
+    (each slider within d_i of its offset, the self-centring spring within +-dy), and the storey's force
+    k delta - c there, c = sum k_i p_i (the free flight's offset, ``_general_flight``; derived here: the
+    springs' forces summed with every one elastic)."""
+    k, dy, alpha = par[q, IW_K], par[q, IW_DY], par[q, IW_ALPHA]
+    ki = (1.0 - par[q, IW_CENTRING]) * (1.0 - alpha) * k / IWAN_SLIDERS
+    di, ratio = _first_and_ratio(dy, par[q, IW_SPREAD])
+    lo, hi, c = -dy, dy, 0.0
+    for i in range(IWAN_SLIDERS):
+        p = state[q, i]
+        lo = max(lo, p - di)
+        hi = min(hi, p + di)
+        c += ki * p
+        di *= ratio
+    return lo, hi, c

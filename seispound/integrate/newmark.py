@@ -468,11 +468,12 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
 
     storeys = ~ne_gap
     codes = tab["ne_code"][storeys]
-    bilinear = bool(np.all(codes == BILINEAR))  # every storey piecewise linear (or none)
+    # every storey bilinear or Iwan (or none): piecewise linear, free flight while every storey is elastic
+    bilinear = bool(np.all((codes == BILINEAR) | (codes == IWAN)))
     # hysteretic storeys fly free with their terms iterated within the step, Bouc-Wen and peak-oriented
     # storeys always and bilinear ones while they yield (exact scheme only: the Newmark scheme's free flight
-    # must equal its physical path to round-off, the off switch's comparison)
-    with_history = (codes == BILINEAR) | (codes == BOUC_WEN) | (codes == PEAK_ORIENTED)
+    # must equal its physical path to round-off, the off switch's comparison); Iwan storeys while elastic
+    with_history = (codes == BILINEAR) | (codes == BOUC_WEN) | (codes == PEAK_ORIENTED) | (codes == IWAN)
     hysteretic = bool(storeys.any() and np.all(with_history) and scheme == "exact" and hysteretic_flight)
     ff = (_free_flight_maps(lambda: _renumbered_matrices(system, order), dof_motion, tab, ag.shape[0], dt, nm,
                             scheme, 2 ** lev_free, hysteretic)

@@ -28,6 +28,12 @@ def _yielding(m):
         b.storey_law = StoreyLaw(kind="bilinear", yield_drift=0.01, post_yield_ratio=0.05)
 
 
+def _iwan(m):
+    for b in m.buildings:
+        b.storey_law = StoreyLaw(kind="iwan", yield_drift=0.01, post_yield_ratio=0.05, yield_spread=0.5,
+                                 self_centring=0.3)
+
+
 def _foundation(m):
     m.buildings[1].foundation = Foundation(mass=4e5, rotary_inertia=2e7, floor_rotary_inertia=3e6,
                                            soil=Soil(200.0, 1900.0, 0.3), footing=Footing(width=15.0, length=15.0))
@@ -43,7 +49,7 @@ def _rods(m):
 
 EDITS = {"yielding storeys": [_yielding], "foundation": [_foundation], "floor-to-storey": [_storey_pounding],
          "yielding on a foundation, floor-to-storey": [_yielding, _foundation, _storey_pounding],
-         "yielding with rod floors": [_yielding, _rods]}
+         "yielding with rod floors": [_yielding, _rods], "Iwan storeys": [_iwan]}
 
 
 def _case(name, seconds=12.0):
@@ -129,8 +135,9 @@ def test_hysteretic_storeys_fly_free_with_their_offsets_iterated(law):
 
 @pytest.mark.parametrize("law, limits", [(None, (2e-6, 2.5e-9)),
                                          (dict(kind="peak-oriented", unloading_exponent=0.4, pinching=0.3),
-                                          (1.5e-8, 3e-12))],
-                         ids=["bilinear", "peak-oriented"])
+                                          (1.5e-8, 3e-12)),
+                                         (dict(kind="iwan", yield_spread=0.5, self_centring=0.3), (1.0, 1.0))],
+                         ids=["bilinear", "peak-oriented", "iwan"])
 def test_the_elastic_predictor_agrees_to_the_newton_tolerance(law, limits):
     """Bilinear or peak-oriented storeys tried at their elastic stiffness inside the linear part (Newton on the
     closed gaps alone) against the storeys always in the Newton iteration: the same equations solved by two

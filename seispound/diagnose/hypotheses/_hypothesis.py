@@ -37,6 +37,10 @@ class Hypothesis:
         screened fit (rod floors with more segments, where the recording's band holds their higher modes),
         edited in place, or None when the fit is fine enough.  ``diagnose`` polishes the finer model and the
         screened one and goes on from the better (``api._polish``).
+    warm : bool
+        Whether the forms share quantities enough that each may start from another's fit (a yield drift per
+        building and the post-yield ratio): once the physics is accepted, its other forms are polished from
+        the leading form's values (``api._warm_forms``).
     """
 
     name: str
@@ -47,6 +51,7 @@ class Hypothesis:
     alternative: bool = False
     reduce: Callable | None = None
     refine: tuple = ()
+    warm: bool = False
 
     def applies(self, data: dict) -> str | None:
         """Why this physics cannot apply to the model file's table ``data``, or None when it can."""

@@ -63,6 +63,8 @@ BILINEAR = 'storey_law = { kind = "bilinear", yield_drift = 0.008, post_yield_ra
 BOUC_WEN = 'storey_law = { kind = "bouc-wen", yield_drift = 0.008, post_yield_ratio = 0.05, n = 2 }'
 PEAK = ('storey_law = { kind = "peak-oriented", yield_drift = 0.008, post_yield_ratio = 0.05, unloading_exponent = 0.4, '
         'pinching = 0.3 }')
+IWAN = ('storey_law = { kind = "iwan", yield_drift = 0.008, post_yield_ratio = 0.05, yield_spread = 0.5, '
+        'self_centring = 0.3 }')
 SPRINGS = ('foundation = { mass = 2e5, rotary_inertia = 2e6, floor_rotary_inertia = 5e5, sway_stiffness = 2e9, '
            'sway_damping = 4e7, rocking_stiffness = 2e11, rocking_damping = 1e9 }')
 SOIL = ('foundation = { mass = 2e5, rotary_inertia = 2e6, floor_rotary_inertia = 5e5, '
@@ -76,6 +78,7 @@ CASES = {
     "bilinear storeys": {"a": [BILINEAR], "b": [BILINEAR]},
     "Bouc-Wen storeys": {"a": [BOUC_WEN], "b": [BOUC_WEN]},
     "peak-oriented storeys": {"a": [PEAK], "b": [PEAK]},
+    "Iwan storeys": {"a": [IWAN], "b": [IWAN]},
     "foundation springs": {"b": [SPRINGS]},
     "soil and footing": {"b": [SOIL]},
     "rod floors": {"a": [RODS]},

@@ -715,7 +715,7 @@ def _fit_all(names, data, base, chans, trial_list, max_evaluations, jobs, ne_bas
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
     rank = {n: (COST_ORDER.index(n) if n in COST_ORDER else len(COST_ORDER)) for n in names}
-    forms = [(name, v) for name in sorted(names, key=rank.get) for v in range(CANDIDATES_ALL[name].variants)]
+    forms = [(name, v) for name in sorted(names, key=rank.get) for v in CANDIDATES_ALL[name].screened]
     common = (base, chans, trial_list)
     workers = min(jobs, 3 * len(forms))
     pool = ProcessPoolExecutor(max_workers=workers) if jobs > 1 and forms else None

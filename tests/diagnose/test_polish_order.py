@@ -230,7 +230,7 @@ def test_a_search_in_worker_processes_does_not_wait_for_a_polish_it_does_not_nee
     monkeypatch.setattr(api, "_starts", _stub_starts)
     monkeypatch.setattr(api, "_short", _stub_short)
     monkeypatch.setattr(api, "_polish", _pool_polish)
-    monkeypatch.setattr(api, "CANDIDATES_ALL", {P: type("H", (), {"variants": 2, "refiner": lambda self, k: None})()})
+    monkeypatch.setattr(api, "CANDIDATES_ALL", {P: type("H", (), {"variants": 2, "screened": (0, 1), "refiner": lambda self, k: None})()})
     monkeypatch.setenv(MARK, str(tmp_path / "started"))  # reaches the workers however they are started
     t0 = time.perf_counter()
     out = dict(api._fit_all([P], {}, None, [], [], 400, 2, ne_base=0.64, n_eff=1000, explained=AT))

@@ -41,6 +41,10 @@ class Hypothesis:
         Whether the forms share quantities enough that each may start from another's fit (a yield drift per
         building and the post-yield ratio): once the physics is accepted, its other forms are polished from
         the leading form's values (``api._warm_forms``).
+    warm_only : tuple of int
+        Forms left out of the search's screen and polished only from the leading form's values, where a
+        start from the scan does not reach their basin: Iwan's sliders, whose piecewise-linear response
+        makes the short fits from the scan end above the null point (``inelastic``).
     """
 
     name: str
@@ -52,6 +56,7 @@ class Hypothesis:
     reduce: Callable | None = None
     refine: tuple = ()
     warm: bool = False
+    warm_only: tuple = ()
 
     def applies(self, data: dict) -> str | None:
         """Why this physics cannot apply to the model file's table ``data``, or None when it can."""
@@ -60,6 +65,11 @@ class Hypothesis:
     def refiner(self, variant: int) -> Callable | None:
         """Form ``variant``'s ``refine`` (None where it has none)."""
         return self.refine[variant] if variant < len(self.refine) else None
+
+    @property
+    def screened(self) -> tuple:
+        """The forms the search screens and polishes from its starts (all but ``warm_only``)."""
+        return tuple(v for v in range(len(self.forms)) if v not in self.warm_only)
 
     @property
     def variants(self) -> int:

@@ -91,4 +91,5 @@ def _iwan(d):
 HYPOTHESIS = Hypothesis(
     "inelastic-storey", "storeys that yield",
     "residual that grows after the strongest shaking, with a permanent drift in the roof displacement",
-    forms=(_bouc_wen, _bilinear, _degrading, _peak_oriented, _iwan), why_not=needs_buildings, warm=True)
+    forms=(_bouc_wen, _bilinear, _degrading, _peak_oriented, _iwan), why_not=needs_buildings, warm=True,
+    warm_only=(4,))

@@ -26,7 +26,8 @@ Every spring is piecewise linear in d and the sliders are rate independent, so t
 (Simo & Hughes 1998, Computational Inelasticity, Sec. 1.4) is exact for a drift that moves monotonically
 within the step, as the bilinear law's is.
 
-State columns: the sliders' offsets p_i [m] (slider i carries k_i (d - p_i), |d - p_i| <= d_i).
+State columns: the sliders' offsets p_i [m] (slider i carries k_i (d - p_i), |d - p_i| <= d_i), then the drift
+[m] (``ST_IWAN_DRIFT``: where the committed state lies, which the elastic predictor's test reads).
 """
 
 from __future__ import annotations
@@ -34,6 +35,8 @@ from __future__ import annotations
 from seispound._jit import njit
 
 from ..storey.codes import IW_ALPHA, IW_CENTRING, IW_DY, IW_K, IW_SPREAD, IWAN_SLIDERS
+
+ST_IWAN_DRIFT = IWAN_SLIDERS  # the state column after the sliders' offsets
 
 
 @njit(cache=True, inline="always")
@@ -76,6 +79,7 @@ def iwan_trial(par, committed, trial, q, delta):
         trial[q, i] = delta - e
         f += ki * e
         di *= ratio
+    trial[q, ST_IWAN_DRIFT] = delta
     return f, kt
 
 
@@ -113,3 +117,18 @@ def iwan_window(par, state, q):
         c += ki * p
         di *= ratio
     return lo, hi, c
+
+
+@njit(cache=True, inline="always")
+def iwan_kept_elastic(par, state, q, kt):
+    """Did Iwan storey q move elastically from its committed point (``state``) to a trial point of tangent
+    ``kt`` [N/m]?  The trial point lies inside the springs' elastic window (tangent k), and so must the
+    committed one: the window is an interval, so the straight move between them is elastic throughout; a
+    committed point beyond +-dy (the self-centring spring saturated) left its window and came back at
+    another force."""
+    if kt != par[q, IW_K]:
+        return False
+    lo, hi, _ = iwan_window(par, state, q)
+    d = state[q, ST_IWAN_DRIFT]
+    tol = 1e-12 * par[q, IW_DY]
+    return lo - tol <= d <= hi + tol

@@ -52,8 +52,8 @@ ST_PLASTIC, ST_Q = 0, 1
 # energy measure eps = integral of z d(delta) / dy^2 [-] that degradation grows with)
 ST_Z, ST_DELTA, ST_EPS = 0, 1, 2
 # state columns: PEAK_ORIENTED (force [N], drift [m], the largest positive and negative excursions [m]:
-# ``_peak_oriented``); IWAN (each slider's offset [m]: ``_iwan``)
-N_STATE = 8  # max(4, IWAN_SLIDERS)
+# ``_peak_oriented``); IWAN (each slider's offset [m], then the drift [m]: ``_iwan``)
+N_STATE = 9  # max(4, IWAN_SLIDERS + 1)
 
 # codes of history-carrying laws (beyond the contact codes, which stay below 20) and their parameter columns
 from ..storey.codes import (B_ALPHA, B_FY, B_K, BILINEAR, BOUC_WEN, BW_ALPHA, BW_BETA,  # noqa: E402, F401
@@ -61,7 +61,7 @@ from ..storey.codes import (B_ALPHA, B_FY, B_K, BILINEAR, BOUC_WEN, BW_ALPHA, BW
                             IWAN, IWAN_SLIDERS, PEAK_ORIENTED, PO_ALPHA, PO_FY, PO_K, PO_PINCH, PO_UNLOAD)
 from ._iwan import iwan_energy, iwan_trial  # noqa: E402
 
-assert N_STATE >= IWAN_SLIDERS  # an Iwan storey keeps a slider's offset per column
+assert N_STATE >= IWAN_SLIDERS + 1  # an Iwan storey keeps a slider's offset per column, then its drift
 from ._peak_oriented import (ST_D, ST_DNEG, ST_DPOS, ST_F, peak_oriented_energy,  # noqa: E402
                              peak_oriented_move)
 # a Bouc-Wen trial integrates z over sub-increments of at most this fraction of dy (trapezoidal rule each)

@@ -136,10 +136,10 @@ def test_hysteretic_storeys_fly_free_with_their_offsets_iterated(law):
 @pytest.mark.parametrize("law, limits", [(None, (2e-6, 2.5e-9)),
                                          (dict(kind="peak-oriented", unloading_exponent=0.4, pinching=0.3),
                                           (1.5e-8, 3e-12)),
-                                         (dict(kind="iwan", yield_spread=0.5, self_centring=0.3), (1.0, 1.0))],
+                                         (dict(kind="iwan", yield_spread=0.5, self_centring=0.3), (2.5e-8, 8e-13))],
                          ids=["bilinear", "peak-oriented", "iwan"])
 def test_the_elastic_predictor_agrees_to_the_newton_tolerance(law, limits):
-    """Bilinear or peak-oriented storeys tried at their elastic stiffness inside the linear part (Newton on the
+    """Bilinear, peak-oriented or Iwan storeys tried at their elastic stiffness inside the linear part (Newton on the
     closed gaps alone) against the storeys always in the Newton iteration: the same equations solved by two
     Newton paths, so they agree to the tolerance ``rtol`` (amplified by pounding's sensitivity to where an
     impact lands), and the difference falls as ``rtol`` does."""
@@ -163,7 +163,9 @@ def test_the_elastic_predictor_agrees_to_the_newton_tolerance(law, limits):
         diffs.append(max(_rel(on.displacement, off.displacement), _rel(on.acceleration, off.acceleration)))
         print(f"MEASURED elastic predictor on vs off, rtol {rtol:g}: {diffs[-1]:.1e} "
               f"(Newton iterations {on.stats['iterations']} vs {off.stats['iterations']})")
-    # measured on 12 s of the yielding row: bilinear 9.5e-7 and 8.8e-10, peak-oriented 6.1e-9 and 1.2e-12
+    # measured on 12 s of the yielding row: bilinear 9.5e-7 and 8.8e-10, peak-oriented 6.1e-9 and 1.2e-12, Iwan
+    # 9.0e-9 and 2.8e-13 (3.8e-5 at both tolerances while the test read an Iwan storey's tangent alone: a
+    # committed point beyond +-dy, the self-centring spring saturated, came back inside at another force)
     assert diffs[0] <= limits[0] and diffs[1] <= limits[1] and diffs[1] < diffs[0] / 100
 
 

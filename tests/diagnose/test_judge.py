@@ -89,7 +89,7 @@ def test_recalibration_spans_a_mass_factor_per_building_when_buildings_can_pound
 
 
 def test_every_finished_fit_task_is_reported_as_progress():
-    from seispound.diagnose.api import _progress
+    from seispound.diagnose.api import CANDIDATES_ALL, _progress
 
     lines = []
     fit = _fit(0.0421)
@@ -100,7 +100,8 @@ def test_every_finished_fit_task_is_reported_as_progress():
     assert lines == ["  soil-structure-interaction, form 2 of 2: 4 starts chosen",
                      "  soil-structure-interaction, form 2 of 2: short fit NE 0.0421 (3 of 12 forms screened)",
                      "  soil-structure-interaction, form 2 of 2: polished with the base parameters, NE 0.0421",
-                     "  inelastic-storey, form 1 of 4: cannot run (ValueError: bad)"]
+                     f"  inelastic-storey, form 1 of {CANDIDATES_ALL['inelastic-storey'].variants}: cannot run "
+                     "(ValueError: bad)"]
 
 
 def _stubbed_fit_all(monkeypatch, results):

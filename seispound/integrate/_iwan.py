@@ -83,7 +83,7 @@ def iwan_trial(par, committed, trial, q, delta):
     return f, kt
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)  # not inlined: the energy and the elastic predictor's test inline the protocol, and a loop
 def iwan_energy(par, state, q, delta):
     """Recoverable energy [J] of Iwan storey q in ``state`` at drift ``delta`` [m]: alpha k delta^2 / 2, the
     self-centring spring's k_c delta^2 / 2 within dy and k_c dy (|delta| - dy / 2) beyond, and each slider's
@@ -100,7 +100,7 @@ def iwan_energy(par, state, q, delta):
     return e
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def iwan_window(par, state, q):
     """(lo, hi [m], c [N]) of Iwan storey q in ``state``: the drifts between which every spring stays elastic
     (each slider within d_i of its offset, the self-centring spring within +-dy), and the storey's force
@@ -119,7 +119,7 @@ def iwan_window(par, state, q):
     return lo, hi, c
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def iwan_kept_elastic(par, state, q, kt):
     """Did Iwan storey q move elastically from its committed point (``state``) to a trial point of tangent
     ``kt`` [N/m]?  The trial point lies inside the springs' elastic window (tangent k), and so must the

@@ -227,7 +227,8 @@ def _yielding(fit, data, reach=None):
     for path in fit.parameters:
         if path.endswith("storey_law.yield_drift"):
             name = path.split(".")[1]
-            q = _delta(fit, f"{name}: yield drift", "m", lambda x, p=path: x[p], [path], defining=True)
+            fn, paths = _yield_drift(fit, data, name, path)
+            q = _delta(fit, f"{name}: yield drift", "m", fn, paths, defining=True)
             out.append(_beyond_reach(q, name, reach))
     laws = {(b.get("storey_law") or {}).get("kind") for b in data.get("building", [])}
     pinch = ("pinching severity s (Roufaiel & Meyer): reloading aims first at 1 - s of its target force"
@@ -245,6 +246,39 @@ def _yielding(fit, data, reach=None):
         if path in fit.parameters:
             out.append(_delta(fit, what, "-", lambda x, p=path: x[p], [path]))
     return out
+
+
+def _yield_drift(fit, data, name, path):
+    """(fn, paths): a storey's yield drift [m] as every yielding form defines it alike, its hysteretic springs'
+    strength over their initial stiffness (the drift at which the initial tangent meets the post-yield asymptote).
+
+    It is the law's ``yield_drift`` for the bilinear, Bouc-Wen and peak-oriented laws.  An Iwan storey's sliders
+    yield at drifts spread geometrically about ``yield_drift`` (their geometric mean), so its strength is
+    c dy + (1 - c) mean(d_i) times (1 - alpha) k, with d_i the sliders' yield drifts and c the self-centring share
+    (derived here from ``integrate._iwan``'s springs): the quantity is dy (c + (1 - c) mean(d_i / dy)).  The
+    spread and share enter as fitted where the fit moved them, else at their values.
+    """
+    laws = [b.get("storey_law") or {} for b in data.get("building", []) if name in ("*", b.get("name"))]
+    if not laws or any(law.get("kind") != "iwan" for law in laws):
+        return (lambda x, p=path: x[p]), [path]
+    from ..storey.codes import IWAN_SLIDERS
+
+    held, paths = {}, [path]
+    for key in ("yield_spread", "self_centring"):
+        free = next((p for p in (f"building.{name}.storey_law.{key}", f"building.*.storey_law.{key}")
+                     if p in fit.parameters), None)
+        if free is not None and not fit.parameters[free]["at_bound"]:
+            paths.append(free)
+            held[key] = free
+        else:
+            held[key] = float(fit.parameters[free]["value"]) if free else float(laws[0].get(key, 0.0))
+    exponents = np.array([(2.0 * (i + 0.5) / IWAN_SLIDERS - 1.0) for i in range(IWAN_SLIDERS)])
+
+    def strength_drift(x):
+        s, c = (x[held[k]] if isinstance(held[k], str) else held[k] for k in ("yield_spread", "self_centring"))
+        return x[path] * (c + (1.0 - c) * float(np.mean(10.0 ** (s * exponents))))
+
+    return strength_drift, paths
 
 
 def _beyond_reach(q, name, reach):

@@ -227,3 +227,48 @@ def test_storey_reach_is_the_peak_drift_of_the_fitted_run(tmp_path):
         peak = float(ds.peak_drift.sel(building=b).max())
         print(f"MEASURED {b}: storey_reach {reach[str(b)]:.6g} m, peak_drift {peak:.6g} m")
         assert peak > 1e-3 and abs(reach[str(b)] / peak - 1) < 1e-9  # measured: equal to the printed digits
+
+
+def _iwan_fit(dy, spread, centring):
+    from seispound.calibrate.fit import CalibrationResult
+
+    def par(v, lo, hi):
+        return dict(value=v, start=v, stderr=1e-3 * max(v, 1.0), lo=lo, hi=hi, at_bound=False, factor=False)
+
+    params = {"building.A.storey_law.yield_drift": par(dy, 1e-4, 1.0),
+              "building.*.storey_law.yield_spread": par(spread, 0.0, 1.0),
+              "building.*.storey_law.self_centring": par(centring, 0.0, 0.9)}
+    return CalibrationResult(parameters=params, correlation=np.eye(3), ne_before={}, ne_after={}, ne_mean_before=0,
+                             ne_mean_after=0, evaluations=0, seconds=0, model_text="", n=1, n_eff=1, success=True,
+                             message="")
+
+
+def test_an_iwan_yield_drift_is_its_springs_strength_over_their_stiffness():
+    """An Iwan storey's reported yield drift is what the other yielding forms call it: the hysteretic springs'
+    strength over their initial stiffness, (F(d) - alpha k d) / ((1 - alpha) k) once every spring has yielded.
+    Checked against the law itself (kind: the derivation in ``_yield_drift`` against the springs of
+    ``integrate._iwan`` driven monotonically past the largest slider's yield drift); zero spread and no
+    self-centring give the law's yield_drift (the bilinear law)."""
+    from seispound.contact.codes import N_PAR
+    from seispound.diagnose.quantities import _yielding
+    from seispound.integrate._material import N_STATE, material_trial
+    from seispound.storey import StoreyLaw
+    from seispound.storey import codes as C
+
+    k, alpha = 2e7, 0.05
+    for dy, spread, centring in ((0.01, 0.0, 0.0), (0.012, 0.45, 0.0), (0.008, 0.8, 0.3)):
+        law = StoreyLaw(kind="iwan", yield_drift=dy, post_yield_ratio=alpha, yield_spread=spread,
+                        self_centring=centring)
+        law.validate(1)
+        far = 20 * dy * 10 ** spread
+        force, _, _ = material_trial(C.IWAN, law.kernel_rows([k], N_PAR)[1], np.zeros((1, N_STATE)),
+                                     np.zeros((1, N_STATE)), 0, far, 0.0)
+        expected = (force - alpha * k * far) / ((1 - alpha) * k)
+        data = {"building": [{"name": "A", "storey_law": {"kind": "iwan"}}]}
+        q = _yielding(_iwan_fit(dy, spread, centring), data)[0]
+        assert q["name"] == "A: yield drift" and abs(q["value"] / expected - 1) < 1e-12, (q["value"], expected)
+        assert q["stderr"] > 0 and q["defining"]
+        if spread == 0 and centring == 0:
+            assert abs(q["value"] - dy) < 1e-15
+        else:
+            assert q["value"] > dy * 1.01  # above the sliders' geometric mean, where the spread lifts it

@@ -22,8 +22,8 @@ Quantities (units in each entry):
   of the rod floor as modelled), the axial damping ratio; or, for a body on a compliant joint,
   the body's mass and its natural frequency on the joint;
 * inelastic-storey: each building's yield drift, the post-yield stiffness ratio (and Bouc-Wen's
-  exponent, a peak-oriented law's unloading exponent and pinching, or an Iwan law's spread of yield drifts
-  and self-centring share); a yield drift larger than every storey deformation of the fitted run is not identified
+  exponent, a peak-oriented law's unloading exponent and pinching, an Iwan law's spread of yield drifts
+  and self-centring share, or a flag's height); a yield drift larger than every storey deformation of the fitted run is not identified
   (a Bouc-Wen or degrading storey departs from linearity below it, and the fit reads that, not the yield);
 * velocity-dependent-restitution: e at impact velocities of 0.1 and 0.5 m/s, and the change of e
   between them (the velocity dependence itself, marked ``defining``);
@@ -241,7 +241,8 @@ def _yielding(fit, data, reach=None):
                       ("pinching_rate", "pinching growth rate p with the hysteretic energy (Foliente)"),
                       ("pinching_width", "pinching width over the yield drift psi (Foliente)"),
                       ("yield_spread", "spread s of the sliders' yield drifts about dy, decades (Iwan)"),
-                      ("self_centring", "self-centring share of the hysteretic stiffness (Iwan)")):
+                      ("self_centring", "self-centring share of the hysteretic stiffness (Iwan)"),
+                      ("energy_dissipation", "flag's force drop on unloading over the yield force beta (Christopoulos)")):
         path = f"building.*.storey_law.{key}"
         if path in fit.parameters:
             out.append(_delta(fit, what, "-", lambda x, p=path: x[p], [path]))

@@ -297,7 +297,7 @@ def general_kernel(linear, p, numbering, elements, state0, motion, init, setting
     tangent : a group of active elements that holds a storey iterates on the banded tangent
     (``_general_solve._newton_tangent``, half bandwidth pT with the storeys); False: every group on the dense
     condensed system (``_newton``), the off switch the tests compare against.
-    el_pred: every storey is bilinear, peak-oriented or Iwan, and a physical step first tries them at their
+    el_pred: every storey is bilinear, peak-oriented, Iwan or flag, and a physical step first tries them at their
     elastic stiffness in the linear part (Newton on the closed gaps alone), kept if every storey ends the
     step on that line.
     ff = (on, start, off_x, off_g, off_e, phi, G0, G1, Egx, Egg, st_elem, st_start, Gc, Egc, Gq, Egq, bw):

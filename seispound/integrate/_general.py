@@ -58,9 +58,10 @@ from ._events import ACCEPT, AT_ONCE, FAILED, LAND_TOL, REDO, _event_in_step, _l
 from ._general_flight import _free_flight
 from ._general_solve import N_LEVELS, _acceleration, _cached_factor, _factor_cache, _predictor, _solve_groups
 from ._ground import GU0, GU1, _gap_ground_all, _ground_all, _tick
-from ..storey.codes import B_FY, B_K, IWAN, PEAK_ORIENTED
+from ..storey.codes import B_FY, B_K, FLAG, IWAN, PEAK_ORIENTED
 from ._material import material_commit, material_energy, material_trial
 from ._iwan import iwan_kept_elastic
+from ._flag import flag_kept_elastic
 from ._peak_oriented import BEND, ST_D, ST_F
 from ._outputs import (
     E_CONTACT,
@@ -288,12 +289,15 @@ def _trial(h, lev, clk, cnt, lp, model, work, outs, stats):
 def _kept_elastic(code, par, st_c, q, ds, f, dfd):
     """Did storey q's trial at deformation ds [m] (force f [N], tangent dfd [N/m]) stay on the line of slope k
     through its committed point, as the elastic predictor took it?  A bilinear storey: inside its elastic
-    range (tangent k).  An Iwan storey: every spring elastic at both ends (``iwan_kept_elastic``).  A
+    range (tangent k).  An Iwan storey: every spring elastic at both ends (``iwan_kept_elastic``); a flag storey:
+    both ends inside its window (``flag_kept_elastic``).  A
     peak-oriented storey: its force is the committed one moved along k, to round-off
     (the virgin storey's unloading and reloading lines are one line), and its tangent is k."""
     k = par[q, B_K]
     if code == IWAN:
         return iwan_kept_elastic(par, st_c, q, dfd)
+    if code == FLAG:
+        return flag_kept_elastic(par, st_c, q, ds, dfd)
     if code == PEAK_ORIENTED:
         return (abs(dfd - k) <= BEND * k
                 and abs(f - st_c[q, ST_F] - k * (ds - st_c[q, ST_D])) <= 1e-12 * par[q, B_FY])

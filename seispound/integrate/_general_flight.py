@@ -18,10 +18,9 @@ from seispound._jit import njit
 from ._elements import _deformation_at, kinetic_energy
 from ._events import _event_in_step, _hermite, _screen_elements
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
-from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY, IWAN, PEAK_ORIENTED, PO_FY, PO_K
+from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY, FLAG, IWAN, PEAK_ORIENTED, PO_FY, PO_K
 from ._material import (B_ON_SURFACE, ST_DELTA, ST_EPS, ST_PLASTIC, ST_Q, ST_Z, bilinear_dy, bilinear_path,
-                        bouc_wen_path, material_commit, material_trial, peak_oriented_path)
-from ._iwan import iwan_window
+                        bouc_wen_path, material_commit, material_trial, material_window, peak_oriented_path)
 from ._peak_oriented import ST_D, ST_DNEG, ST_DPOS, ST_F
 from ._outputs import S_DOF_STEPS, S_FREE_FLIGHT, S_ITERATIONS, S_STEPS
 
@@ -67,8 +66,8 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
         elif ne_code[q] == PEAK_ORIENTED:  # c = k delta - f: fixed while a virgin storey stays within +-dy,
             cst[j] = ne_par[q, B_K] * st_c[q, ST_D] - st_c[q, ST_F]  # iterated once it has yielded
             itr[j] = not _virgin(ne_par, st_c, q)
-        elif ne_code[q] == IWAN:  # c = sum k_i p_i: fixed while every spring is elastic, never iterated
-            cst[j] = iwan_window(ne_par, st_c, q)[2]
+        elif ne_code[q] == IWAN or ne_code[q] == FLAG:  # c fixed while every spring is elastic, never iterated
+            cst[j] = material_window(ne_code[q], ne_par, st_c, q)[2]
             itr[j] = False
         else:  # a yielding bilinear storey's c is iterated as a Bouc-Wen storey's (z = q_h / k)
             cst[j] = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * st_c[q, ST_PLASTIC]
@@ -135,8 +134,8 @@ def _elastic_through(ff, elg, st_c, x, dr1, gk, dt, cst, terms, dwh):
             continue
         k = ne_par[q, B_K]
         ds0, rs0 = dr[4 * j], dr[4 * j + 1]
-        if ne_code[q] == IWAN:  # (an Iwan storey that starts outside its elastic window: a yielding one)
-            lo, hi = iwan_window(ne_par, st_c, q)[:2]
+        if ne_code[q] == IWAN or ne_code[q] == FLAG:  # (one that starts outside its window: a yielding one)
+            lo, hi = material_window(ne_code[q], ne_par, st_c, q)[:2]
             if ds0 > hi + 1e-12 * abs(hi) or ds0 < lo - 1e-12 * abs(lo):
                 return False, 0.0
         else:

@@ -26,8 +26,8 @@ calls the law twice per element and step.
 State rows have N_STATE entries.  Contact laws (codes of ``contact.codes``)
 keep (zeta, e) set at onset and do not change within an impact.  Hysteretic
 storey laws: BILINEAR (kinematic hardening), BOUC_WEN (smooth, Bouc 1967,
-Wen 1976), PEAK_ORIENTED (stiffness degrading, ``_peak_oriented``) and IWAN
-(Masing's rules, ``_iwan``).  Both drivers call every law through this protocol (``_contact._begin_impact``
+Wen 1976), PEAK_ORIENTED (stiffness degrading, ``_peak_oriented``), IWAN
+(Masing's rules, ``_iwan``) and FLAG (flag-shaped, self-centring, ``_flag``).  Both drivers call every law through this protocol (``_contact._begin_impact``
 for the onset, ``_newton`` for the trials).  Free flight with
 Bouc-Wen storeys (``_general_flight._hysteretic_flight``) carries z along a step's path
 with ``bouc_wen_path`` and commits the state it reached.
@@ -52,14 +52,16 @@ ST_PLASTIC, ST_Q = 0, 1
 # energy measure eps = integral of z d(delta) / dy^2 [-] that degradation grows with)
 ST_Z, ST_DELTA, ST_EPS = 0, 1, 2
 # state columns: PEAK_ORIENTED (force [N], drift [m], the largest positive and negative excursions [m]:
-# ``_peak_oriented``); IWAN (each slider's offset [m], then the drift [m]: ``_iwan``)
+# ``_peak_oriented``); IWAN (each slider's offset [m], then the drift [m]: ``_iwan``); FLAG (the hysteretic force
+# [N] and the drift [m]: ``_flag``)
 N_STATE = 9  # max(4, IWAN_SLIDERS + 1)
 
 # codes of history-carrying laws (beyond the contact codes, which stay below 20) and their parameter columns
 from ..storey.codes import (B_ALPHA, B_FY, B_K, BILINEAR, BOUC_WEN, BW_ALPHA, BW_BETA,  # noqa: E402, F401
                             BW_DETA, BW_DNU, BW_DY, BW_GAMMA, BW_K, BW_N, BW_PINCH, BW_PINCH_RATE, BW_PINCH_WIDTH,
-                            IWAN, IWAN_SLIDERS, PEAK_ORIENTED, PO_ALPHA, PO_FY, PO_K, PO_PINCH, PO_UNLOAD)
-from ._iwan import iwan_energy, iwan_trial  # noqa: E402
+                            FLAG, IWAN, IWAN_SLIDERS, PEAK_ORIENTED, PO_ALPHA, PO_FY, PO_K, PO_PINCH, PO_UNLOAD)
+from ._iwan import iwan_energy, iwan_trial, iwan_window  # noqa: E402
+from ._flag import flag_energy, flag_trial, flag_window  # noqa: E402
 
 assert N_STATE >= IWAN_SLIDERS + 1  # an Iwan storey keeps a slider's offset per column, then its drift
 from ._peak_oriented import (ST_D, ST_DNEG, ST_DPOS, ST_F, peak_oriented_energy,  # noqa: E402
@@ -111,6 +113,9 @@ def material_trial(code, par, committed, trial, q, delta, rate):
         return _peak_oriented_trial(par, committed, trial, q, delta, rate)
     if code == IWAN:
         f, kt = iwan_trial(par, committed, trial, q, delta)
+        return f, kt, 0.0
+    if code == FLAG:
+        f, kt = flag_trial(par, committed, trial, q, delta)
         return f, kt, 0.0
     return law_force(code, par[q, P_K], par[q, P_EXPONENT], par[q, P_MEFF], par[q, P_TENSION], delta, rate,
                      committed[q, ST_ZETA])
@@ -632,7 +637,19 @@ def material_energy(code, par, state, q, delta):
         return peak_oriented_energy(pq, state[q, ST_F], max(state[q, ST_DPOS], dy), min(state[q, ST_DNEG], -dy))
     if code == IWAN:
         return iwan_energy(par, state, q, delta)
+    if code == FLAG:
+        return flag_energy(par, state, q, delta)
     return 0.0
+
+
+@njit(cache=True)
+def material_window(code, par, state, q):
+    """(lo, hi [m], c [N]) of a storey whose law is linear in pieces with a window (IWAN, FLAG): the drifts
+    between which it moves at its initial stiffness k from its committed point, and its force k delta - c there
+    (``_iwan.iwan_window``, ``_flag.flag_window``); what free flight holds fixed while the storey stays inside."""
+    if code == FLAG:
+        return flag_window(par, state, q)
+    return iwan_window(par, state, q)
 
 
 @njit(cache=True, inline="always")

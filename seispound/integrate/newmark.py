@@ -221,7 +221,7 @@ def integrate(system, ground_acceleration, dt: float, nsteps: int, newmark: Newm
         the impact duration alone); ``simulation.contact_step`` sets it from
         the row's fastest mode, which rod floors make kHz.
     elastic_predictor : bool
-        General driver, every storey bilinear, peak-oriented or Iwan: each physical step first tries the storeys
+        General driver, every storey bilinear, peak-oriented, Iwan or flag: each physical step first tries the storeys
         at their elastic stiffness inside the linear part, with Newton on the closed gaps alone, and keeps
         it when every storey ends the step on that line (default); False: the storeys always in the Newton
         iteration.  The two agree to the Newton tolerance ``rtol`` (amplified by pounding's
@@ -464,23 +464,24 @@ def _integrate_general(system, ground_acceleration, dt, nsteps, nm, impact_capac
     nt = nsteps + 1 if store_history else 1
     p_tangent = row["p_tangent"]
     lev_free = int(round(math.log2(substeps))) if substeps else 0
-    from ..storey.codes import BILINEAR, BOUC_WEN, IWAN, PEAK_ORIENTED
+    from ..storey.codes import BILINEAR, BOUC_WEN, FLAG, IWAN, PEAK_ORIENTED
 
     storeys = ~ne_gap
     codes = tab["ne_code"][storeys]
-    # every storey bilinear or Iwan (or none): piecewise linear, free flight while every storey is elastic
-    bilinear = bool(np.all((codes == BILINEAR) | (codes == IWAN)))
+    # every storey bilinear, Iwan or flag (or none): piecewise linear, free flight while every storey is elastic
+    windowed = (codes == IWAN) | (codes == FLAG)
+    bilinear = bool(np.all((codes == BILINEAR) | windowed))
     # hysteretic storeys fly free with their terms iterated within the step, Bouc-Wen and peak-oriented
     # storeys always and bilinear ones while they yield (exact scheme only: the Newmark scheme's free flight
-    # must equal its physical path to round-off, the off switch's comparison); Iwan storeys while elastic
-    with_history = (codes == BILINEAR) | (codes == BOUC_WEN) | (codes == PEAK_ORIENTED) | (codes == IWAN)
+    # must equal its physical path to round-off, the off switch's comparison); Iwan and flag storeys while elastic
+    with_history = (codes == BILINEAR) | (codes == BOUC_WEN) | (codes == PEAK_ORIENTED) | windowed
     hysteretic = bool(storeys.any() and np.all(with_history) and scheme == "exact" and hysteretic_flight)
     ff = (_free_flight_maps(lambda: _renumbered_matrices(system, order), dof_motion, tab, ag.shape[0], dt, nm,
                             scheme, 2 ** lev_free, hysteretic)
           if free_flight and (bilinear or hysteretic) else None)
-    # storeys tried at their elastic stiffness first: the piecewise-linear laws (bilinear, peak-oriented, Iwan)
+    # storeys tried at their elastic stiffness first: the piecewise-linear laws (bilinear, peak-oriented, Iwan, flag)
     el_pred = bool(elastic_predictor and storeys.any()
-                   and np.all((codes == BILINEAR) | (codes == PEAK_ORIENTED) | (codes == IWAN)))
+                   and np.all((codes == BILINEAR) | (codes == PEAK_ORIENTED) | windowed))
     i0 = np.zeros(1, np.int64)
     ff_args = ((True, ff.start, ff.off_x, ff.off_g, ff.off_e, ff.phi, ff.g0, ff.g1, ff.egx, ff.egg, ff.st_elem,
                 ff.st_start, ff.gc, ff.egc, ff.gq, ff.egq, hysteretic) if ff is not None

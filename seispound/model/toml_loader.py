@@ -39,7 +39,8 @@ _SOIL = {"shear_wave_velocity", "density", "poisson", "radiation"}
 _SOIL_REQUIRED = {"shear_wave_velocity", "density", "poisson"}
 _FOOTING = {"width", "length", "radius"}
 _STOREY_LAW = {"kind", "yield_drift", "yield_force", "post_yield_ratio", "n", "beta", "gamma", "strength_degradation",
-               "stiffness_degradation", "pinching", "pinching_rate", "pinching_width", "unloading_exponent", "yield_spread", "self_centring"}
+               "stiffness_degradation", "pinching", "pinching_rate", "pinching_width", "unloading_exponent", "yield_spread", "self_centring",
+               "energy_dissipation"}
 _VARIANT = {"delay", "lowpass", "lowpass_order", "weight"}
 _DAMPING = {"kind", "ratio", "modes"}
 _LAW_KEYS = {"law", "stiffness", "restitution", "tension", "damping_constant", "exponent"}
@@ -375,11 +376,11 @@ def _make_law(c: dict, key: str):
 def _storey_law(d, key):
     """``[[building]] storey_law = { kind, yield_drift or yield_force, post_yield_ratio, n, beta, gamma }``."""
     if not isinstance(d, dict):
-        raise InputError('must be a table {kind = "bilinear" | "bouc-wen" | "peak-oriented" | "iwan", yield_drift or '
+        raise InputError('must be a table {kind = "bilinear" | "bouc-wen" | "peak-oriented" | "iwan" | "flag", yield_drift or '
                          'yield_force, post_yield_ratio, ...}', key=key)
     _check_keys(d, _STOREY_LAW, key)
     if "kind" not in d:
-        raise InputError('is required ("elastic", "bilinear", "bouc-wen", "peak-oriented" or "iwan")', key=f"{key}.kind")
+        raise InputError('is required ("elastic", "bilinear", "bouc-wen", "peak-oriented", "iwan" or "flag")', key=f"{key}.kind")
     if not isinstance(d["kind"], str):
         raise InputError(f"must be a string, got {d['kind']!r}", key=f"{key}.kind")
     return StoreyLaw(**d)

@@ -10,6 +10,7 @@ BILINEAR = 20  # kinematic hardening
 BOUC_WEN = 21  # smooth hysteresis (Bouc 1967, Wen 1976)
 PEAK_ORIENTED = 22  # stiffness-degrading, peak-oriented (Clough & Johnston 1966; Takeda, Sozen & Nielsen 1970)
 IWAN = 23  # distributed-element (Iwan 1966): Masing's rules, optionally partly self-centring
+FLAG = 24  # flag-shaped, self-centring (Christopoulos, Filiatrault & Folz 2002)
 
 # parameter columns of BILINEAR: initial stiffness k [N/m], yield force fy [N], post-yield ratio alpha [-]
 B_K, B_FY, B_ALPHA = 0, 1, 2
@@ -27,6 +28,10 @@ PO_K, PO_FY, PO_ALPHA, PO_UNLOAD, PO_PINCH = 0, 1, 2, 3, 4
 # the sliders' yield drifts [decades] and the self-centring share c of the hysteretic stiffness [-] (``_iwan``)
 IW_K, IW_DY, IW_ALPHA, IW_SPREAD, IW_CENTRING = 0, 1, 2, 3, 4
 IWAN_SLIDERS = 8  # elastic-perfectly-plastic sliders of an Iwan storey (a state column each)
+# parameter columns of FLAG: k [N/m], yield drift dy [m], alpha [-] and beta, the force drop on unloading over the
+# yield force k dy [-] (``_flag``)
+FL_K, FL_DY, FL_ALPHA, FL_BETA = 0, 1, 2, 3
 N_STOREY_PAR = 11
 
-NAMES = {"elastic": LINEAR, "bilinear": BILINEAR, "bouc-wen": BOUC_WEN, "peak-oriented": PEAK_ORIENTED, "iwan": IWAN}
+NAMES = {"elastic": LINEAR, "bilinear": BILINEAR, "bouc-wen": BOUC_WEN, "peak-oriented": PEAK_ORIENTED, "iwan": IWAN,
+         "flag": FLAG}

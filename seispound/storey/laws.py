@@ -1,5 +1,5 @@
-"""Hysteretic storey laws: bilinear with kinematic hardening, Bouc-Wen, peak-oriented (Clough, Takeda) and Iwan's
-distributed-element law (Masing's rules, optionally self-centring)."""
+"""Hysteretic storey laws: bilinear with kinematic hardening, Bouc-Wen, peak-oriented (Clough, Takeda), Iwan's
+distributed-element law (Masing's rules, optionally self-centring) and the flag-shaped self-centring law."""
 
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ class StoreyLaw:
 
     Parameters
     ----------
-    kind : {"elastic", "bilinear", "bouc-wen", "peak-oriented", "iwan"}
+    kind : {"elastic", "bilinear", "bouc-wen", "peak-oriented", "iwan", "flag"}
         "bilinear": kinematic hardening, F = alpha k d + (1 - alpha) q,
         |q| <= fy (Simo & Hughes 1998, Sec. 1.4); "bouc-wen":
         F = alpha k d + (1 - alpha) k z with dz/dt = d'(t) (1 - |z/dy|^n
@@ -40,8 +40,12 @@ class StoreyLaw:
         a linear spring alpha k, eight elastic-perfectly-plastic sliders whose
         yield drifts spread geometrically about dy, and optionally a
         self-centring nonlinear-elastic spring (Iwan 1966, J. Appl. Mech.
-        33(4), 893-900: Masing's rules; ``seispound.integrate._iwan``); k the
-        storey's ``storey_stiffness``.
+        33(4), 893-900: Masing's rules; ``seispound.integrate._iwan``); "flag":
+        the flag-shaped loop of self-centring storeys, loading at k to dy and then
+        at alpha k, unloading at k until the force has dropped by beta k dy,
+        then at alpha k, and back to the origin at k
+        (Christopoulos, Filiatrault & Folz 2002, EESD 31(5), 1131-1150;
+        ``seispound.integrate._flag``); k the storey's ``storey_stiffness``.
     yield_drift : float or list, [m]
         dy; or give ``yield_force`` fy [N] (dy = fy / k).  Exactly one of the two.
     yield_force : float or list, [N]
@@ -73,6 +77,12 @@ class StoreyLaw:
         Iwan only: c in [0, 1), the share of the hysteretic stiffness
         (1 - alpha) k in a nonlinear-elastic spring that saturates at dy
         (default 0: none; the loop narrows to a flag as c grows).
+    energy_dissipation : float, [-]
+        Flag only, and required there: beta in [0, 1], the force drop on unloading
+        at k over the yield force k dy (Christopoulos et al.'s beta; the branches lie
+        beta (1 - alpha) k dy apart; 0: nonlinear elastic, no dissipation; 1: the
+        lower branch ends at the origin).  Every beta returns the storey
+        to zero drift at zero force.
     pinching, pinching_rate, pinching_width : float, [-]
         Bouc-Wen only: the loop pinches near zero force as in Baber & Noori (1985,
         J. Eng. Mech. 111(8), 1010-1026) and Foliente (1995, J. Struct. Eng. 121(6),
@@ -98,6 +108,7 @@ class StoreyLaw:
     pinching_width: float = 0.2
     yield_spread: float = 0.0
     self_centring: float = 0.0
+    energy_dissipation: float | None = None
 
     @property
     def code(self) -> int:
@@ -169,6 +180,19 @@ class StoreyLaw:
                                  key=f"{key}.{f}")
             if v and self.kind != "iwan":
                 raise InputError(f"{f.replace('_', ' ')} is an Iwan storey's", key=f"{key}.{f}")
+        self._validate_flag(key)
+
+    def _validate_flag(self, key) -> None:
+        v = self.energy_dissipation
+        if v is None:
+            if self.kind == "flag":
+                raise InputError("is required for a flag storey (the force drop on unloading over the yield force, "
+                                 "in [0, 1])", key=f"{key}.energy_dissipation")
+            return
+        if self.kind != "flag":
+            raise InputError("the energy dissipation coefficient is a flag storey's", key=f"{key}.energy_dissipation")
+        if not (isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and 0.0 <= v <= 1.0):
+            raise InputError(f"must be a finite number in [0, 1], got {v!r}", key=f"{key}.energy_dissipation")
 
     def _per_storey(self, field, n_storeys, key, positive=False) -> np.ndarray:
         arr = number_array(getattr(self, field), f"{key}.{field}")
@@ -203,6 +227,9 @@ class StoreyLaw:
         elif self.kind == "iwan":
             par[:, C.IW_K], par[:, C.IW_DY], par[:, C.IW_ALPHA] = k, dy, alpha
             par[:, C.IW_SPREAD], par[:, C.IW_CENTRING] = self.yield_spread, self.self_centring
+        elif self.kind == "flag":
+            par[:, C.FL_K], par[:, C.FL_DY], par[:, C.FL_ALPHA] = k, dy, alpha
+            par[:, C.FL_BETA] = self.energy_dissipation
         else:
             par[:, C.BW_K], par[:, C.BW_DY], par[:, C.BW_ALPHA] = k, dy, alpha
             par[:, C.BW_N], par[:, C.BW_BETA], par[:, C.BW_GAMMA] = self.n, self.beta, self.gamma

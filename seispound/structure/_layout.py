@@ -169,6 +169,8 @@ def _scaled(row, code, share):
         row[C.BW_K] *= share
     elif code == C.IWAN:
         row[C.IW_K] *= share
+    elif code == C.FLAG:
+        row[C.FL_K] *= share
     return row
 
 

@@ -1,6 +1,6 @@
 """Inelastic storeys: bilinear, Bouc-Wen with a fitted exponent, degrading, pinching Bouc-Wen hysteresis, the
 peak-oriented law of reinforced-concrete storeys (Clough, Takeda), optionally pinched, and Iwan's
-distributed-element law (Masing's rules), optionally self-centring."""
+distributed-element law (Masing's rules), optionally self-centring, and the flag-shaped self-centring law."""
 
 from __future__ import annotations
 
@@ -88,8 +88,22 @@ def _iwan(d):
     return specs, null
 
 
+def _flag(d):
+    # the flag-shaped loop of self-centring storeys (Christopoulos, Filiatrault & Folz 2002): unloading at k by the
+    # flag's height, then along the lower branch back to zero drift; a yield drift per building, the post-yield
+    # ratio and the flag's height beta one value for the row (null: never yields; beta = 1, the widest flag,
+    # nearest the loops of the forms whose values it starts from)
+    specs = ["building.*.storey_law.post_yield_ratio=0.005:0.5", "building.*.storey_law.energy_dissipation=0:1"]
+    null = {"building.*.storey_law.post_yield_ratio": 0.05, "building.*.storey_law.energy_dissipation": 1.0}
+    for b in d["building"]:
+        b["storey_law"] = {"kind": "flag", "yield_drift": 0.02, "post_yield_ratio": 0.05, "energy_dissipation": 1.0}
+        specs.append(f"building.{b['name']}.storey_law.yield_drift=0.0005:5")
+        null[f"building.{b['name']}.storey_law.yield_drift"] = 5.0
+    return specs, null
+
+
 HYPOTHESIS = Hypothesis(
     "inelastic-storey", "storeys that yield",
     "residual that grows after the strongest shaking, with a permanent drift in the roof displacement",
-    forms=(_bouc_wen, _bilinear, _degrading, _peak_oriented, _iwan), why_not=needs_buildings, warm=True,
-    warm_only=(4,))
+    forms=(_bouc_wen, _bilinear, _degrading, _peak_oriented, _iwan, _flag), why_not=needs_buildings, warm=True,
+    warm_only=(4, 5))

@@ -2,8 +2,9 @@
 
 Independent of the package (NumPy only).  The package's hypothesis library now holds a peak-oriented law of
 this kind (Clough / Takeda, optional pinching), so the outside suite's default draw conceals yielding
-storeys with the other laws of the generator, ``flag.py`` (flag-shaped, self-centring) and ``masing.py``
-(Ramberg-Osgood with Masing's rules); the forms "takeda", "clough-pinched", "rocking-cone+takeda" and
+storeys with the other laws of the generator, ``braced.py`` (tension-only X-braced storeys) and ``masing.py``
+(Ramberg-Osgood with Masing's rules; ``flag.py``, flag-shaped and self-centring, is held by the library too
+since it gained a flag-shaped law); the forms "takeda", "clough-pinched", "rocking-cone+takeda" and
 "stratum+clough-pinched" that use this law are still made with ``--forms``.  The law:
 
 * **Backbone**: bilinear, elastic stiffness ``k0`` up to the yield drift ``dy`` (force Fy = k0 dy),

@@ -13,13 +13,14 @@ load.  Every building has its own ground acceleration (``ag[b]``); its ground di
 velocity are ODE states, so gaps close on absolute positions.
 
 **Superstructure.**  Storeys: linear springs, or hysteretic storeys with the force as an ODE state:
-Takeda/Clough (``hysteresis.py``; ``Bldg.takeda``), flag-shaped self-centring (``flag.py``) or
-Ramberg-Osgood with Masing's rules (``masing.py``; both ``Bldg.hysteresis``; a building's storeys all of
-one law).  Each hysteretic storey has three states (its force and two of its law's: Takeda's largest
-excursions, the flag's slip); a Masing storey's reversal points are held by terminal events
-(``masing.Memory``), as contact is.  Rayleigh damping from the fixed-base lumped building's modes 1
-and 2 (on the storeys' initial stiffness).  Floors: one node, or a chain of ``nodes`` nodes with a mass profile
-(``chain["weights"]``, any shape), equal links of stiffness ``k_link`` and stiffness-proportional
+Takeda/Clough (``hysteresis.py``; ``Bldg.takeda``), flag-shaped self-centring (``flag.py``),
+Ramberg-Osgood with Masing's rules (``masing.py``) or tension-only X-braced (``braced.py``; the last three
+``Bldg.hysteresis``; a building's storeys all of one law).  Each hysteretic storey has three states (its force
+and two of its law's: Takeda's largest excursions, the flag's slip); a Masing storey's reversal points are held
+by terminal events (``masing.Memory``), as contact is.  A braced storey's two states are its braces' plastic
+elongations, its force algebraic in its drift and them (its force state unused, held at zero).  Rayleigh damping
+from the fixed-base lumped building's modes 1 and 2 (on the storeys' initial stiffness).  Floors: one node, or a
+chain of ``nodes`` nodes with a mass profile (``chain["weights"]``, any shape), equal links of stiffness ``k_link`` and stiffness-proportional
 link dashpots ``beta_link * k_link``; the storey spring below a floor is shared by its nodes in
 proportion to their tributary lengths.  Attachments (bolted elements): a node of mass ``m`` on a
 joint spring and dashpot at a floor's contact face, its mass taken from the floor's; contact acts on it.
@@ -45,7 +46,7 @@ from scipy.integrate import solve_ivp
 from scipy.linalg import eigh
 from scipy.optimize import root_scalar
 
-from . import flag, hysteresis, masing
+from . import braced, flag, hysteresis, masing
 
 V0_FLOOR = 1e-3  # m/s: zeta of a grazing contact is set at this approach velocity (zeta grows as 1/v0)
 
@@ -60,8 +61,9 @@ class Bldg:
     chain: dict | None = None  # {"nodes": p, "weights": p mass shares, "k_link": N/m, "beta_link": s}
     attachment: dict | None = None  # {"mass": kg, "k": N/m, "c": N s/m}, at every contact face
     takeda: dict | None = None  # {"dy": [per storey], "alpha", "beta", "pinch" (None)}
-    # another storey law (instead of takeda): {"kind": "flag", "dy": [per storey], "alpha", "beta_f"} (flag.py) or
-    # {"kind": "masing", "dy": [per storey], "a", "r"} (masing.py)
+    # another storey law (instead of takeda): {"kind": "flag", "dy": [per storey], "alpha", "beta_f"} (flag.py),
+    # {"kind": "masing", "dy": [per storey], "a", "r"} (masing.py) or {"kind": "braced", "dy": [per storey], "r_f",
+    # "a_h"} (braced.py)
     hysteresis: dict | None = None
     soil: dict | None = None  # soil.py's model plus "m0", "I0"
     v0: float = 0.0  # initial velocity of every DOF of the building (impact tests)
@@ -193,9 +195,12 @@ class Assembly:
                         kind = "takeda" if b.takeda is not None else law["kind"]
                         hkind.append(kind)
                         hdy.append(law["dy"][f])
-                        # (alpha, beta): Takeda's (alpha, beta); flag's (alpha, beta_f); Masing's (a, r)
-                        halpha.append(law["a"] if kind == "masing" else law["alpha"])
-                        hbeta.append(law[{"takeda": "beta", "flag": "beta_f", "masing": "r"}[kind]])
+                        # (alpha, beta): Takeda's (alpha, beta); flag's (alpha, beta_f); Masing's (a, r); braced
+                        # (r_f, a_h)
+                        na, nb_ = {"takeda": ("alpha", "beta"), "flag": ("alpha", "beta_f"), "masing": ("a", "r"),
+                                   "braced": ("r_f", "a_h")}[kind]
+                        halpha.append(law[na])
+                        hbeta.append(law[nb_])
                         hpinch.append((law.get("pinch") or 2.0) if kind == "takeda" else 2.0)  # 2: no pinching
                 for i in range(p - 1):
                     _pair(Ks, loc[nodes[i + 1]], loc[nodes[i]], b.chain["k_link"])
@@ -227,7 +232,7 @@ class Assembly:
         self.hpinch = np.array(hpinch, float) if self.hyst else None
         # each law's storeys (indices into the hysteretic storeys)
         self.hkind = np.array(hkind, dtype=object)
-        self.groups = {k: np.flatnonzero(self.hkind == k) for k in ("takeda", "flag", "masing")}
+        self.groups = {k: np.flatnonzero(self.hkind == k) for k in ("takeda", "flag", "masing", "braced")}
         # contact pairs: (left building, its right face DOF, right building, its left face DOF, size, floor)
         self.pairs = []
         for li, ri, size in row.gaps:
@@ -287,13 +292,24 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False,
     Dh = A.Dh
     k0, dy, alpha, beta = A.hpar
     # each law's storeys: Takeda's states (f, dpos, dneg); the flag's (f, p, unused); Masing's (f, unused, unused),
-    # its reversal points held by events (masing.Memory)
-    it, ifl, ims = (A.groups[k] if nh else np.zeros(0, int) for k in ("takeda", "flag", "masing"))
+    # its reversal points held by events (masing.Memory); braced (unused, p1, p2): the braces' plastic elongations,
+    # the force algebraic (storey_forces)
+    it, ifl, ims, ibr = (A.groups[k] if nh else np.zeros(0, int) for k in ("takeda", "flag", "masing", "braced"))
     pinch = None
     if it.size and np.any(A.hpinch[it] < 1.0):
         pinch = A.hpinch[it]
     par_t = tuple(x[it] for x in (k0, dy, alpha, beta))
     par_f = tuple(x[ifl] for x in (k0, dy, alpha, beta))
+    par_b = tuple(x[ibr] for x in (k0, dy, alpha, beta))
+    Db = Dh[ibr] if ibr.size else None
+
+    def storey_forces(x, y):
+        """The hysteretic storeys' forces: the force states, a braced storey's from its drift and elongations."""
+        fh = y[sf]
+        if ibr.size:
+            fh = fh.copy()
+            fh[ibr] = braced.force(Db @ x, y[sp][ibr], y[sn][ibr], *par_b)
+        return fh
     mem = masing.Memory(*(x[ims] for x in (k0, dy, alpha, beta))) if ims.size else None
     Dm = Dh[ims] if ims.size else None
     # closure gradient of each pair over (x, ug)
@@ -322,7 +338,7 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False,
         fint = A.K @ x + A.C @ v
         dy_ = np.zeros(N)
         if nh:
-            fh = y[sf]
+            fh = storey_forces(x, y)
             fint = fint + Dh.T @ fh
             drift, rate = Dh @ x, Dh @ v
             df, dp_, dn_ = np.zeros(nh), np.zeros(nh), np.zeros(nh)
@@ -333,6 +349,8 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False,
                 df[ifl], dp_[ifl] = flag.rates(rate[ifl], fh[ifl], y[sp][ifl], *par_f)
             if ims.size:
                 df[ims] = mem.rates(rate[ims], fh[ims])
+            if ibr.size:
+                dp_[ibr], dn_[ibr] = braced.rates(drift[ibr], rate[ibr], y[sp][ibr], y[sn][ibr], *par_b)
             dy_[sf], dy_[sp], dy_[sn] = df, dp_, dn_
         F = contact_force(y)
         fext = -A.R @ ground(t) - G.T @ F
@@ -354,7 +372,7 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False,
         J = J0.copy()
         if nh:
             kt, on_p, on_n, dd, dfv = (np.zeros(nh) for _ in range(5))
-            drift, rate, fh = Dh @ y[sx], Dh @ y[sv], y[sf]
+            drift, rate, fh = Dh @ y[sx], Dh @ y[sv], storey_forces(y[sx], y)
             if it.size:
                 kt[it], on_p[it], on_n[it], dd[it], dfv[it] = hysteresis.tangent(
                     drift[it], rate[it], fh[it], y[sp][it], y[sn][it], *par_t, pinch, partials=True)
@@ -370,6 +388,16 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False,
             J[sf, sf] = np.diag(dfv)
             J[sp, sv] = on_p[:, None] * Dh
             J[sn, sv] = on_n[:, None] * Dh
+            if ibr.size:  # the force is algebraic: its partials enter the velocities' rows (its force state's are zero)
+                _kt, fl1, fl2, kd, kp1, kp2 = braced.tangent(drift[ibr], rate[ibr], y[sp][ibr], y[sn][ibr], *par_b,
+                                                            partials=True)
+                J[sv, 2 * n + ibr] = 0.0
+                J[sv, sx] -= minv[:, None] * (Db.T @ (kd[:, None] * Db))
+                J[sv, 2 * n + nh + ibr] = -minv[:, None] * (Db.T * kp1)
+                J[sv, 2 * n + 2 * nh + ibr] = -minv[:, None] * (Db.T * kp2)
+                one = 1.0 - par_b[3]
+                J[2 * n + nh + ibr, sv] = (one * fl1)[:, None] * Db
+                J[2 * n + 2 * nh + ibr, sv] = (-one * fl2)[:, None] * Db
         if closed.any():
             d, r = closure(y)
             for p in np.flatnonzero(closed & (d > 0.0)):
@@ -402,6 +430,7 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False,
     if nh:
         atol[sf] = 1e-7 * k0 * dy
         atol[sp][ifl] = 1e-10 * dy[ifl]  # the flag's slip
+        atol[sp][ibr] = atol[sn][ibr] = 1e-10 * dy[ibr]  # the braces' plastic elongations
     y = np.zeros(N)
     for bi, b in enumerate(row.buildings):
         if b.v0:
@@ -487,8 +516,11 @@ def simulate(row: Row, t_ag, ag, t_eval, max_step=1e-3, rtol=1e-8, forces=False,
         res["roof"][b.name] = out[:, :n] @ A.sensor[(b.name, b.n)]
         res["base"][b.name] = gr[:, bi] + (acc_all[:, blk["fnd"][0]] if blk["fnd"] else 0.0)
     if nh:
-        res["storey_force"] = out[:, sf]  # every hysteretic storey's force (columns in Assembly.hyst order)
         drift = out[:, :n] @ Dh.T
+        fo = out[:, sf].copy()  # every hysteretic storey's force (columns in Assembly.hyst order)
+        if ibr.size:
+            fo[:, ibr] = braced.force(drift[:, ibr], out[:, sp][:, ibr], out[:, sn][:, ibr], *par_b)
+        res["storey_force"] = fo
         for bi, b in enumerate(row.buildings):
             cols = [h for h, (hb, _f) in enumerate(A.hyst) if hb == bi]
             if cols:

@@ -9,10 +9,11 @@ from the package.  The families, forms and draws are listed in ``docs/diagnose_g
 ``FORMS`` below is the table.  ``K`` instances of every form; every other instance weak (strength
 0.3-0.5, else 0.7-1.0): strength scales each form's departure from the base model.
 
-The default forms are ``DEFAULT_FORMS``: every form but the four whose storey law the package's library now
-holds (``LIBRARY_HELD``: "takeda", "clough-pinched", "rocking-cone+takeda", "stratum+clough-pinched", made
-only with ``--forms``), replaced by "flag" (flag-shaped self-centring storeys, ``flag.py``), "masing"
-(Ramberg-Osgood storeys with Masing's rules, ``masing.py``), "rocking-cone+flag" and "stratum+masing".
+The default forms are ``DEFAULT_FORMS``: every form but those whose storey law the package's library now holds
+(the keys of ``LIBRARY_HELD``: "takeda", "clough-pinched", "rocking-cone+takeda", "stratum+clough-pinched",
+"flag", "rocking-cone+flag", made only with ``--forms``), each replaced, at the end of its chain of replacements,
+by "braced" (tension-only X-braced storeys, ``braced.py``: in the place of "takeda", through "flag"), "masing"
+(Ramberg-Osgood storeys with Masing's rules, ``masing.py``), "rocking-cone+braced" and "stratum+masing".
 """
 
 from __future__ import annotations
@@ -44,6 +45,7 @@ FORMS = {
     "clough-pinched": ("inelastic-storey", ["inelastic-storey"]),
     "flag": ("inelastic-storey", ["inelastic-storey"]),
     "masing": ("inelastic-storey", ["inelastic-storey"]),
+    "braced": ("inelastic-storey", ["inelastic-storey"]),
     "reciprocal": ("velocity-dependent-restitution", ["velocity-dependent-restitution"]),
     "johnson": ("velocity-dependent-restitution", ["velocity-dependent-restitution"]),
     "tanh": ("velocity-dependent-restitution", ["velocity-dependent-restitution"]),
@@ -56,6 +58,7 @@ FORMS = {
     "stratum+clough-pinched": ("two-effects", ["soil-structure-interaction", "inelastic-storey"]),
     "rocking-cone+flag": ("two-effects", ["soil-structure-interaction", "inelastic-storey"]),
     "stratum+masing": ("two-effects", ["soil-structure-interaction", "inelastic-storey"]),
+    "rocking-cone+braced": ("two-effects", ["soil-structure-interaction", "inelastic-storey"]),
     "attachment+tanh": ("two-effects", ["distributed-mass", "velocity-dependent-restitution"]),
     **{c: ("control", ["none"]) for c in CONTROLS},
     "fault-gain": ("instrument-fault", ["instrument-fault"]),
@@ -67,11 +70,28 @@ EV_FORMS = ("reciprocal", "johnson", "tanh", "piecewise")
 # The package's hypothesis library now holds a peak-oriented storey law (Clough / Takeda, with optional pinching), so
 # Takeda and pinched-Clough storeys are no longer outside it: the default draw conceals yielding storeys as flag-shaped
 # self-centring storeys and Ramberg-Osgood / Masing storeys instead, each in the place of the form it replaces (so
-# that every family keeps its number of cases, and every other form its seeds and case numbers).  The four stay in
-# FORMS, to be generated with --forms.
+# that every family keeps its number of cases, and every other form its seeds and case numbers).  The library has
+# since gained a flag-shaped law (the flag's parametrisation), so the flag forms are replaced in turn, by tension-only
+# X-braced storeys: a chain takeda -> flag -> braced, followed to its end (``replacement``).  The replaced forms stay
+# in FORMS, to be generated with --forms.
 LIBRARY_HELD = {"takeda": "flag", "clough-pinched": "masing", "rocking-cone+takeda": "rocking-cone+flag",
-                "stratum+clough-pinched": "stratum+masing"}
-DEFAULT_FORMS = [LIBRARY_HELD.get(f, f) for f in FORMS if f not in LIBRARY_HELD.values()]
+                "stratum+clough-pinched": "stratum+masing", "flag": "braced", "rocking-cone+flag": "rocking-cone+braced"}
+
+
+def replacement(form):
+    """The form that takes ``form``'s place in the default draw: LIBRARY_HELD followed to the end of its chain."""
+    seen = {form}
+    while form in LIBRARY_HELD:
+        form = LIBRARY_HELD[form]
+        if form in seen:
+            raise ValueError(f"LIBRARY_HELD has a cycle through {form}")
+        seen.add(form)
+    return form
+
+
+# every form that is not itself a replacement, in FORMS' order, replaced: so each replacement sits in the place of the
+# first form of its chain, and the seeds and case numbers of every other form are those they had before
+DEFAULT_FORMS = [replacement(f) for f in FORMS if f not in LIBRARY_HELD.values()]
 
 
 # ---------------------------------------------------------------------------------------------- inputs
@@ -230,7 +250,7 @@ def apply_form(form, row, rng, s, info):
             b.takeda = {"dy": [dy] * b.n, "alpha": alpha, "beta": beta, "pinch": pinch}
             q.setdefault("buildings", {}).setdefault(b.name, {}).update(
                 {"yield_drift": dy, "post_yield_ratio": alpha, "unloading_exponent": beta, "pinch": pinch})
-    elif form in ("flag", "masing"):
+    elif form in ("flag", "masing", "braced"):
         if form == "flag":
             # flag-shaped self-centring storeys (flag.py): a post-tensioned connection's stiffness after
             # decompression alpha 0.03-0.15 of the initial; the flag's height beta_f 0.4-0.9 of Fy (below 1:
@@ -238,13 +258,21 @@ def apply_form(form, row, rng, s, info):
             alpha, beta_f = rng.uniform(0.03, 0.15), rng.uniform(0.4, 0.9)
             law = {"kind": "flag", "alpha": alpha, "beta_f": beta_f}
             key = {"storey_law": "flag", "post_yield_ratio": alpha, "beta_f": beta_f}
-        else:
+        elif form == "masing":
             # Ramberg-Osgood / Masing storeys (masing.py), d = f / k0 (1 + a |f / Fy|^(r - 1)): a 0.3-1.0 (the
             # drift at Fy is 1.3-2 dy), r 4-12 (a gradual knee, as of concrete frames, to a sharp one, as of steel
             # frames)
             a, r = rng.uniform(0.3, 1.0), rng.uniform(4.0, 12.0)
             law = {"kind": "masing", "a": a, "r": r}
             key = {"storey_law": "ramberg-osgood-masing", "ramberg_osgood_a": a, "ramberg_osgood_r": r}
+        else:
+            # tension-only X-braced storeys (braced.py): an elastic frame of r_f 0.1-0.3 of the initial stiffness, the
+            # rest two slender braces that carry tension only, each yielding at the storey's yield drift, hardening a_h
+            # 0-0.03 of their elastic stiffness (the storey's post-yield ratio r_f + a_h (1 - r_f))
+            r_f, a_h = rng.uniform(0.1, 0.3), rng.uniform(0.0, 0.03)
+            law = {"kind": "braced", "r_f": r_f, "a_h": a_h}
+            key = {"storey_law": "tension-only-braced", "frame_ratio": r_f, "brace_hardening": a_h,
+                   "post_yield_ratio": r_f + a_h * (1.0 - r_f)}
         for b in row.buildings:  # the yield drift (Fy / k0) as the takeda branch draws it
             dy = float(rng.uniform(0.008, 0.02) / s)
             b.hysteresis = {**law, "dy": [dy] * b.n}
@@ -728,7 +756,8 @@ def main(argv=None) -> int:
     ap.add_argument("--suite", default="outside")
     ap.add_argument("--instances", type=int, default=2, help="instances of every form")
     ap.add_argument("--forms", default=",".join(DEFAULT_FORMS),
-                    help="comma-separated forms (default: all but the four the library now holds, LIBRARY_HELD)")
+                    help="comma-separated forms (default: all but those the library now holds, LIBRARY_HELD, "
+                         "each replaced)")
     ap.add_argument("--controls", type=int, default=None,
                     help="instances of each of the 8 control forms (default --instances; 5 gives 40 controls)")
     ap.add_argument("--seed", type=int, default=2026)

@@ -65,6 +65,7 @@ PEAK = ('storey_law = { kind = "peak-oriented", yield_drift = 0.008, post_yield_
         'pinching = 0.3 }')
 IWAN = ('storey_law = { kind = "iwan", yield_drift = 0.008, post_yield_ratio = 0.05, yield_spread = 0.5, '
         'self_centring = 0.3 }')
+FLAG = 'storey_law = { kind = "flag", yield_drift = 0.008, post_yield_ratio = 0.05, energy_dissipation = 0.6 }'
 SPRINGS = ('foundation = { mass = 2e5, rotary_inertia = 2e6, floor_rotary_inertia = 5e5, sway_stiffness = 2e9, '
            'sway_damping = 4e7, rocking_stiffness = 2e11, rocking_damping = 1e9 }')
 SOIL = ('foundation = { mass = 2e5, rotary_inertia = 2e6, floor_rotary_inertia = 5e5, '
@@ -79,6 +80,7 @@ CASES = {
     "Bouc-Wen storeys": {"a": [BOUC_WEN], "b": [BOUC_WEN]},
     "peak-oriented storeys": {"a": [PEAK], "b": [PEAK]},
     "Iwan storeys": {"a": [IWAN], "b": [IWAN]},
+    "flag storeys": {"a": [FLAG], "b": [FLAG]},
     "foundation springs": {"b": [SPRINGS]},
     "soil and footing": {"b": [SOIL]},
     "rod floors": {"a": [RODS]},

@@ -288,16 +288,12 @@ def _trial(h, lev, clk, cnt, lp, model, work, outs, stats):
 @njit(cache=True, inline="always")
 def _kept_elastic(code, par, st_c, q, ds, f, dfd):
     """Did storey q's trial at deformation ds [m] (force f [N], tangent dfd [N/m]) stay on the line of slope k
-    through its committed point, as the elastic predictor took it?  A bilinear storey: inside its elastic
-    range (tangent k).  An Iwan storey: every spring elastic at both ends (``iwan_kept_elastic``); a flag storey:
-    both ends inside its window (``flag_kept_elastic``).  A
-    peak-oriented storey: its force is the committed one moved along k, to round-off
-    (the virgin storey's unloading and reloading lines are one line), and its tangent is k."""
+    through its committed point, as the elastic predictor took it?  Bilinear: tangent k.  Iwan, flag: both
+    ends in the window (``iwan_kept_elastic``, ``flag_kept_elastic``).  Peak-oriented: the committed force
+    moved along k, to round-off (the virgin storey's unloading and reloading lines are one), and tangent k."""
     k = par[q, B_K]
-    if code == IWAN:
-        return iwan_kept_elastic(par, st_c, q, dfd)
-    if code == FLAG:
-        return flag_kept_elastic(par, st_c, q, ds, dfd)
+    if code == IWAN or code == FLAG:
+        return iwan_kept_elastic(par, st_c, q, dfd) if code == IWAN else flag_kept_elastic(par, st_c, q, ds, dfd)
     if code == PEAK_ORIENTED:
         return (abs(dfd - k) <= BEND * k
                 and abs(f - st_c[q, ST_F] - k * (ds - st_c[q, ST_D])) <= 1e-12 * par[q, B_FY])

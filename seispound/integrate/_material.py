@@ -111,11 +111,9 @@ def material_trial(code, par, committed, trial, q, delta, rate):
         return _bouc_wen_trial(par, committed, trial, q, delta)
     if code == PEAK_ORIENTED:
         return _peak_oriented_trial(par, committed, trial, q, delta, rate)
-    if code == IWAN:
-        f, kt = iwan_trial(par, committed, trial, q, delta)
-        return f, kt, 0.0
-    if code == FLAG:
-        f, kt = flag_trial(par, committed, trial, q, delta)
+    if code == IWAN or code == FLAG:
+        f, kt = (iwan_trial(par, committed, trial, q, delta) if code == IWAN
+                 else flag_trial(par, committed, trial, q, delta))
         return f, kt, 0.0
     return law_force(code, par[q, P_K], par[q, P_EXPONENT], par[q, P_MEFF], par[q, P_TENSION], delta, rate,
                      committed[q, ST_ZETA])

@@ -1353,7 +1353,8 @@ def _warm_forms(step, base, chans, trial_list, max_evaluations, n, n_eff, jobs, 
         if best is not step:
             say(f"{step.name}: another of its forms from the leading form's values fits better: NE "
                 f"{step.fit.ne_mean_after:.4f} -> {best.fit.ne_mean_after:.4f}")
-    return _reach_in(best, best_specs, base_specs, (base, chans, trial_list, max_evaluations), n, n_eff, say)
+    common = (base, chans, trial_list, max_evaluations)
+    return _reach_in(best, best_specs, base_specs, common, n, n_eff, say, unreached if best is step else None)
 
 
 def _stepped(step, out, own, specs, n, n_eff):
@@ -1365,11 +1366,11 @@ def _stepped(step, out, own, specs, n, n_eff):
                  step.probability)
 
 
-def _reach_in(step, specs, base_specs, common, n, n_eff, say):
+def _reach_in(step, specs, base_specs, common, n, n_eff, say, unreached=None):
     """``step`` polished once more (``_polish``, its form's own parameters then with the base's) with each
     building's yield drift that its fitted storeys never reach set inside their reach (``_unreached_yield``);
     the better of the two.  specs: the own parameters of ``step``'s form; common = (base, chans, trial_list,
-    max_evaluations)."""
+    max_evaluations); unreached: ``_unreached_yield(step, ...)`` where already known (None: computed here)."""
     import tomllib
 
     import tomli_w
@@ -1378,7 +1379,8 @@ def _reach_in(step, specs, base_specs, common, n, n_eff, say):
 
     if specs is None:
         return step
-    unreached = _unreached_yield(step, *common[:3])
+    if unreached is None:
+        unreached = _unreached_yield(step, *common[:3])
     if not unreached:
         return step
     data = tomllib.loads(step.fit.model_text)

@@ -2,7 +2,8 @@
 
 Private: the material protocol (``_material.material_trial`` and ``material_energy``) calls :func:`flag_trial`
 and :func:`flag_energy`; the general driver's free flight and elastic predictor call :func:`flag_window` and
-:func:`flag_kept_elastic`.
+:func:`flag_kept_elastic`, and its free flight on a branch :func:`flag_on_branch` and :func:`flag_move`
+(through ``_material.flag_path``).
 
 A storey of initial stiffness k [N/m] carries F = alpha k d + h at drift d [m]: a linear spring alpha k (the
 post-yield stiffness) and a hysteretic force h [N] that moves at K = (1 - alpha) k between two bounds and
@@ -117,3 +118,50 @@ def flag_kept_elastic(par, state, q, delta, kt):
     tol = 1e-12 * par[q, FL_DY]
     d = state[q, ST_FLAG_DRIFT]
     return lo - tol <= d <= hi + tol and lo - tol <= delta <= hi + tol
+
+
+@njit(cache=True)
+def flag_on_branch(par, state, q):
+    """Is flag storey q in ``state`` at a bound of its hysteretic force off the origin's line (on a branch, or at
+    the edge of its window where one begins), so that its force is not k delta - c over a window around its
+    drift?  Within 1e-12 H of the bound."""
+    kh = (1.0 - par[q, FL_ALPHA]) * par[q, FL_K]
+    big = kh * par[q, FL_DY]
+    low = (1.0 - par[q, FL_BETA]) * big
+    h, d = state[q, ST_FLAG_H], state[q, ST_FLAG_DRIFT]
+    tol = 1e-12 * big
+    if abs(h - kh * d) <= tol:
+        return False
+    lo, hi = _bounds(kh, big, low, d)
+    return h >= hi - tol or h <= lo + tol
+
+
+@njit(cache=True)
+def flag_move(par, q, d, h, delta):
+    """The hysteretic force h [N] after flag storey q's drift moves monotonically from (d, h) to ``delta`` [m],
+    the slope dh/d(delta) / K [-] it ends on (1 inside its bounds or on the origin's line, 0 on a branch), and
+    whether that slope differs from the move's first (the force is then not linear in the drift along it).
+
+    The end is :func:`flag_trial`'s return map (exact for a monotone move); the first slope is the branch's
+    where h starts at the bound the move pushes it against (within 1e-12 H), else 1 (derived here)."""
+    kh = (1.0 - par[q, FL_ALPHA]) * par[q, FL_K]
+    big = kh * par[q, FL_DY]
+    low = (1.0 - par[q, FL_BETA]) * big
+    tol = 1e-12 * big
+    lo, hi = _bounds(kh, big, low, d)
+    up = delta > d
+    first = 1.0
+    if abs(h - kh * d) > tol and ((up and h >= hi - tol) or (not up and h <= lo + tol)):
+        first = 0.0
+    if (d > 0.0 and delta < 0.0) or (d < 0.0 and delta > 0.0):
+        d, h = 0.0, 0.0  # through zero drift, where h is zero on every path
+    h1 = h + kh * (delta - d)
+    lo, hi = _bounds(kh, big, low, delta)
+    slope = 1.0
+    if h1 > hi:
+        h1 = hi
+        slope = 0.0 if hi != kh * delta else 1.0
+    elif h1 < lo:
+        h1 = lo
+        slope = 0.0 if lo != kh * delta else 1.0
+    return h1, slope, slope != first

@@ -18,9 +18,11 @@ from seispound._jit import njit
 from ._elements import _deformation_at, kinetic_energy
 from ._events import _event_in_step, _hermite, _screen_elements
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
-from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY, FLAG, IWAN, PEAK_ORIENTED, PO_FY, PO_K
+from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY, FL_DY, FLAG, IWAN, PEAK_ORIENTED, PO_FY, PO_K
+from ._flag import ST_FLAG_DRIFT, ST_FLAG_H, flag_on_branch
 from ._material import (B_ON_SURFACE, ST_DELTA, ST_EPS, ST_PLASTIC, ST_Q, ST_Z, bilinear_dy, bilinear_path,
-                        bouc_wen_path, material_commit, material_trial, material_window, peak_oriented_path)
+                        bouc_wen_path, flag_path, material_commit, material_trial, material_window,
+                        peak_oriented_path)
 from ._peak_oriented import ST_D, ST_DNEG, ST_DPOS, ST_F
 from ._outputs import S_DOF_STEPS, S_FREE_FLIGHT, S_ITERATIONS, S_STEPS
 
@@ -66,9 +68,9 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
         elif ne_code[q] == PEAK_ORIENTED:  # c = k delta - f: fixed while a virgin storey stays within +-dy,
             cst[j] = ne_par[q, B_K] * st_c[q, ST_D] - st_c[q, ST_F]  # iterated once it has yielded
             itr[j] = not _virgin(ne_par, st_c, q)
-        elif ne_code[q] == IWAN or ne_code[q] == FLAG:  # c fixed while every spring is elastic, never iterated
-            cst[j] = material_window(ne_code[q], ne_par, st_c, q)[2]
-            itr[j] = False
+        elif ne_code[q] == IWAN or ne_code[q] == FLAG:  # c fixed while every spring is elastic; a flag storey
+            cst[j] = material_window(ne_code[q], ne_par, st_c, q)[2]  # on a branch iterated, c = K delta - h
+            itr[j] = ne_code[q] == FLAG and ff[16] and flag_on_branch(ne_par, st_c, q)
         else:  # a yielding bilinear storey's c is iterated as a Bouc-Wen storey's (z = q_h / k)
             cst[j] = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * st_c[q, ST_PLASTIC]
             itr[j] = ff[16] and abs(st_c[q, ST_Q]) >= (1.0 - B_ON_SURFACE) * ne_par[q, B_FY]
@@ -176,11 +178,16 @@ def _flight_commit(ff, elg, st, elem, ev, fl, peaks, moving, h):
     for j in range(st_elem.size):  # the storeys' state at the step's end (elastic: delta_p kept)
         q = st_elem[j]
         d0[q] = d1[q]  # (the output's recoverable energy reads the storeys' deformations here)
-        if itr[j] and ne_code[q] == PEAK_ORIENTED:  # its law along the step's final path (exact)
+        if itr[j] and (ne_code[q] == PEAK_ORIENTED or ne_code[q] == FLAG):  # its law along the final path (exact)
             ca, cb, cc = _cubic(dr[4 * j], dr[4 * j + 1], d1[q], dr[4 * j + 3], h)
-            f1, dpos, dneg = peak_oriented_path(ne_par, q, st_c, dr[4 * j], ca, cb, cc)[5:]
-            st_t[q, ST_F], st_t[q, ST_D], st_t[q, ST_DPOS], st_t[q, ST_DNEG] = f1, d1[q], dpos, dneg
-            F[q] = f1
+            if ne_code[q] == FLAG:
+                h1 = flag_path(ne_par, q, st_c, dr[4 * j], ca, cb, cc)[5]
+                st_t[q, ST_FLAG_H], st_t[q, ST_FLAG_DRIFT] = h1, d1[q]
+                F[q] = ne_par[q, B_ALPHA] * ne_par[q, B_K] * d1[q] + h1
+            else:
+                f1, dpos, dneg = peak_oriented_path(ne_par, q, st_c, dr[4 * j], ca, cb, cc)[5:]
+                st_t[q, ST_F], st_t[q, ST_D], st_t[q, ST_DPOS], st_t[q, ST_DNEG] = f1, d1[q], dpos, dneg
+                F[q] = f1
         elif itr[j]:  # the state its path reached
             for c in range(st_c.shape[1]):
                 st_t[q, c] = st_c[q, c]
@@ -370,8 +377,10 @@ def _hysteretic_sweep(ff, elg, mat, x1, gk, h, terms, first):
             ca, cb, cc = _cubic(ds0, rs0, ds1, rs1, h)
             if ne_code[q] == BOUC_WEN:
                 zm, z1, eps1, pm, p1 = bouc_wen_path(ne_par, q, st_c[q, ST_Z], st_c[q, ST_EPS], ds0, ca, cb, cc)
-            elif ne_code[q] == PEAK_ORIENTED:
-                zm, z1, pm, p1, kink = peak_oriented_path(ne_par, q, st_c, ds0, ca, cb, cc)[:5]
+            elif ne_code[q] == PEAK_ORIENTED or ne_code[q] == FLAG:
+                zm, z1, pm, p1, kink = (peak_oriented_path(ne_par, q, st_c, ds0, ca, cb, cc)[:5]
+                                        if ne_code[q] == PEAK_ORIENTED else
+                                        flag_path(ne_par, q, st_c, ds0, ca, cb, cc)[:5])
                 if kink:
                     return False
                 eps1 = 0.0
@@ -397,7 +406,9 @@ def _hysteretic_sweep(ff, elg, mat, x1, gk, h, terms, first):
 
 @njit(cache=True, inline="always")
 def _yield_scale(code, par, q):
-    """The displacement [m] z is bounded by: a Bouc-Wen storey's dy, a bilinear storey's fy / k."""
+    """The displacement [m] z is bounded by: a Bouc-Wen or flag storey's dy, a bilinear storey's fy / k."""
+    if code == FLAG:
+        return par[q, FL_DY]
     return par[q, BW_DY] if code == BOUC_WEN else bilinear_dy(par, q)
 
 

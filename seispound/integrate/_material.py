@@ -59,9 +59,10 @@ N_STATE = 9  # max(4, IWAN_SLIDERS + 1)
 # codes of history-carrying laws (beyond the contact codes, which stay below 20) and their parameter columns
 from ..storey.codes import (B_ALPHA, B_FY, B_K, BILINEAR, BOUC_WEN, BW_ALPHA, BW_BETA,  # noqa: E402, F401
                             BW_DETA, BW_DNU, BW_DY, BW_GAMMA, BW_K, BW_N, BW_PINCH, BW_PINCH_RATE, BW_PINCH_WIDTH,
-                            FLAG, IWAN, IWAN_SLIDERS, PEAK_ORIENTED, PO_ALPHA, PO_FY, PO_K, PO_PINCH, PO_UNLOAD)
+                            FL_ALPHA, FL_K, FLAG, IWAN, IWAN_SLIDERS, PEAK_ORIENTED, PO_ALPHA, PO_FY, PO_K,
+                            PO_PINCH, PO_UNLOAD)
 from ._iwan import iwan_energy, iwan_trial, iwan_window  # noqa: E402
-from ._flag import flag_energy, flag_trial, flag_window  # noqa: E402
+from ._flag import ST_FLAG_DRIFT, ST_FLAG_H, flag_energy, flag_move, flag_trial, flag_window  # noqa: E402
 
 assert N_STATE >= IWAN_SLIDERS + 1  # an Iwan storey keeps a slider's offset per column, then its drift
 from ._peak_oriented import (ST_D, ST_DNEG, ST_DPOS, ST_F, peak_oriented_energy,  # noqa: E402
@@ -558,6 +559,39 @@ def peak_oriented_path(par, q, state, d0, ca, cb, cc):
             zm, pm = dm - (k * dm - fm) / scale, 1.0 - (k - kt) / scale
         d, tp = db, tb
     return zm, d - (k * d - f) / scale, pm, 1.0 - (k - kt) / scale, bent, f, dpos, dneg
+
+
+@njit(cache=True)
+def flag_path(par, q, state, d0, ca, cb, cc):
+    """A flag storey along delta(tau) = d0 + ca tau + cb tau^2 + cc tau^3, tau in [0, 1], from its committed
+    ``state``: (z at the middle [m], z at the end [m], dz/d(delta) there [-], whether its slope changes inside
+    a monotonic piece, and h at the end [N]).
+
+    Written as Bouc-Wen's form (``bouc_wen_path``): F = alpha k delta + h = k delta - c with c = K delta - h,
+    K = (1 - alpha) k, so z = h / K, and dz/d(delta) is 1 where h moves at K and 0 on a branch (derived here).
+    The law is rate independent and piecewise linear: each monotonic piece (cut at the turning points) is
+    followed exactly (``_flag.flag_move``), as ``peak_oriented_path`` follows its law; a slope that changes
+    inside a piece (a branch reached, the lower branch meeting the origin's line) makes the force's slope in
+    time jump, which the free-flight step's quadratic load does not hold: the caller takes that step on the
+    physical path.
+    """
+    kh = (1.0 - par[q, FL_ALPHA]) * par[q, FL_K]
+    h, d = state[q, ST_FLAG_H], state[q, ST_FLAG_DRIFT]
+    t_a, t_b = _turning_points(ca, cb, cc)
+    dm = d0 + 0.5 * (ca + 0.5 * (cb + 0.5 * cc))
+    zm, pm, p1, tp, bent = 0.0, 1.0, 1.0, 0.0, False
+    for i in range(3):
+        tb = t_a if i == 0 else (t_b if i == 1 else 1.0)
+        if tb > 1.0 or tb <= tp:
+            continue
+        db = d0 + tb * (ca + tb * (cb + tb * cc))
+        h_a, d_a = h, d
+        h, p1, b = flag_move(par, q, d, h, db)
+        bent = bent or b
+        if tp < 0.5 <= tb:  # the middle, on this piece's line
+            zm, pm = (h_a + p1 * kh * (dm - d_a)) / kh, p1
+        d, tp = db, tb
+    return zm, h / kh, pm, p1, bent, h
 
 
 @njit(cache=True)

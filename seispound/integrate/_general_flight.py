@@ -18,10 +18,11 @@ from seispound._jit import njit
 from ._elements import _deformation_at, kinetic_energy
 from ._events import _event_in_step, _hermite, _screen_elements
 from ._ground import GU0, GU1, _gap_ground_accept, _gap_ground_all, _ground_all
-from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY, FL_DY, FLAG, IWAN, PEAK_ORIENTED, PO_FY, PO_K
+from ..storey.codes import B_ALPHA, B_FY, B_K, BOUC_WEN, BW_DY, FL_DY, FLAG, IW_DY, IWAN, PEAK_ORIENTED, PO_FY, PO_K
 from ._flag import ST_FLAG_DRIFT, ST_FLAG_H, flag_on_branch
+from ._iwan import ST_IWAN_DRIFT
 from ._material import (B_ON_SURFACE, ST_DELTA, ST_EPS, ST_PLASTIC, ST_Q, ST_Z, bilinear_dy, bilinear_path,
-                        bouc_wen_path, flag_path, material_commit, material_trial, material_window,
+                        bouc_wen_path, flag_path, iwan_path, material_commit, material_trial, material_window,
                         peak_oriented_path)
 from ._peak_oriented import ST_D, ST_DNEG, ST_DPOS, ST_F
 from ._outputs import S_DOF_STEPS, S_FREE_FLIGHT, S_ITERATIONS, S_STEPS
@@ -71,6 +72,10 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
         elif ne_code[q] == IWAN or ne_code[q] == FLAG:  # c fixed while every spring is elastic; a flag storey
             cst[j] = material_window(ne_code[q], ne_par, st_c, q)[2]  # on a branch iterated, c = K delta - h
             itr[j] = ne_code[q] == FLAG and ff[16] and flag_on_branch(ne_par, st_c, q)
+            if ne_code[q] == IWAN and ff[16] and not _inside_window(ne_par, st_c, q):  # iterated, c = k delta - F
+                d = st_c[q, ST_IWAN_DRIFT]
+                cst[j] = ne_par[q, B_K] * d - material_trial(IWAN, ne_par, st_c, elem[1], q, d, 0.0)[0]
+                itr[j] = True
         else:  # a yielding bilinear storey's c is iterated as a Bouc-Wen storey's (z = q_h / k)
             cst[j] = (1.0 - ne_par[q, B_ALPHA]) * ne_par[q, B_K] * st_c[q, ST_PLASTIC]
             itr[j] = ff[16] and abs(st_c[q, ST_Q]) >= (1.0 - B_ON_SURFACE) * ne_par[q, B_FY]
@@ -83,22 +88,29 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
         _gap_ground_all(ne_ground, t_end, dt, gk, GU1)
     for j in range(st_elem.size):  # each storey's deformation and rate at the step's start, read by every sweep
         dr[4 * j], dr[4 * j + 1] = _deformation_at(elg[0], elg[1], elg[2], st_elem[j], u, v, gk, GU0)
-    dwh = 0.0
     rise[rise.size - 1] = 0
-    if n_itr > 0:  # Bouc-Wen and yielding bilinear storeys: their terms within the step
-        ok, de_bw, dwh = _hysteretic_flight(ff, elg[:5], (st_c, cst), (u1, v1, a1),
-                                            xs[xs.size - 2 * g_t.size:], gk, dt, (rise, zs, itr, corr, dr))
-        if not ok:
+    de_bw = 0.0
+    for attempt in range(3):  # an Iwan storey that leaves its window joins the iterated ones (twice at most)
+        dwh = 0.0
+        if n_itr > 0:  # Bouc-Wen, yielding bilinear, flag and Iwan storeys: their terms within the step
+            ok, de_bw, dwh = _hysteretic_flight(ff, elg[:5], (st_c, cst, elem[1]), (u1, v1, a1),
+                                                xs[xs.size - 2 * g_t.size:], gk, dt, (rise, zs, itr, corr, dr),
+                                                attempt == 0)
+            if not ok:
+                return False, energy, ke0
+        for q in range(ne_gap.size):
+            if ne_gap[q]:
+                d1[q], r1[q] = _deformation_at(elg[0], elg[1], elg[2], q, u1, v1, gk, GU1)
+        if _screen_elements(ne_gap, active, d0, r0, d1, r1, dt, False, -1, land_too)[1] >= 0:
             return False, energy, ke0
+        status, dwh = _elastic_through(ff, elg, st_c, (u1, v1), (d1, r1), gk, dt, cst, (zs, itr, dr), dwh)
+        if status == 0:
+            break
+        if status == 1 or attempt == 2:
+            return False, energy, ke0
+        n_itr = 1
+    if n_itr > 0:
         de += de_bw
-    for q in range(ne_gap.size):
-        if ne_gap[q]:
-            d1[q], r1[q] = _deformation_at(elg[0], elg[1], elg[2], q, u1, v1, gk, GU1)
-    if _screen_elements(ne_gap, active, d0, r0, d1, r1, dt, False, -1, land_too)[1] >= 0:
-        return False, energy, ke0
-    ok, dwh = _elastic_through(ff, elg, st_c, (u1, v1), (d1, r1), gk, dt, cst, (zs, itr, dr), dwh)
-    if not ok:
-        return False, energy, ke0
     ke1 = kinetic_energy(lin[0], lin[1], lin[2], lin[9], v1)
     dke = ke1 - (ke0 if ke0 == ke0 else kinetic_energy(lin[0], lin[1], lin[2], lin[9], v))
     _flight_commit(ff, elg, st, elem, ev, fl, peaks, moving, dt)
@@ -120,15 +132,18 @@ def _virgin(par, st_c, q):
 
 @njit(cache=True, inline="always")
 def _elastic_through(ff, elg, st_c, x, dr1, gk, dt, cst, terms, dwh):
-    """Does each bilinear (or virgin peak-oriented) storey whose term is not iterated stay within its elastic
-    range over the whole free-flight step (the cubic bound of ``_events``)?  Returns (ok, dwh plus those
-    storeys' work [J]); fills each storey's end deformation and rate, at the end state x = (u1, v1), into dr1 = (d1, r1) (an iterated
-    storey's from its path: terms = (zs, itr, dr), ``_hysteretic_flight``; dr holds the start's)."""
+    """Does each bilinear (or virgin peak-oriented, Iwan or flag) storey whose term is not iterated stay within its
+    elastic range over the whole free-flight step (the cubic bound of ``_events``)?  Returns (status, dwh plus
+    those storeys' work [J]): status 0 yes, 1 no, 2 no but only Iwan storeys left their windows, each now marked
+    iterated in itr (with the hysteretic terms on: the caller iterates the step again).  Fills each storey's end
+    deformation and rate, at the end state x = (u1, v1), into dr1 = (d1, r1) (an iterated storey's from its
+    path: terms = (zs, itr, dr), ``_hysteretic_flight``; dr holds the start's)."""
     ne_dof, ne_coef, ne_size, ne_code, ne_par = elg[0], elg[1], elg[2], elg[3], elg[4]
     u1, v1 = x
     d1, r1 = dr1
     zs, itr, dr = terms
     st_elem = ff[10]
+    status = 0
     for j in range(st_elem.size):
         q = st_elem[j]
         if itr[j]:
@@ -139,7 +154,7 @@ def _elastic_through(ff, elg, st_c, x, dr1, gk, dt, cst, terms, dwh):
         if ne_code[q] == IWAN or ne_code[q] == FLAG:  # (one that starts outside its window: a yielding one)
             lo, hi = material_window(ne_code[q], ne_par, st_c, q)[:2]
             if ds0 > hi + 1e-12 * abs(hi) or ds0 < lo - 1e-12 * abs(lo):
-                return False, 0.0
+                return 1, 0.0
         else:
             centre = 0.0 if ne_code[q] == PEAK_ORIENTED else st_c[q, ST_PLASTIC]  # (a virgin one: f = k delta)
             hi = centre + ne_par[q, B_FY] / k
@@ -148,11 +163,23 @@ def _elastic_through(ff, elg, st_c, x, dr1, gk, dt, cst, terms, dwh):
         tol = 1e-12 * abs(hi - lo)
         if (_event_in_step(ds0 - hi, rs0, ds1 - hi, rs1, dt, True, tol) <= 1.0
                 or _event_in_step(lo - ds0, -rs0, lo - ds1, -rs1, dt, True, tol) <= 1.0):
-            return False, 0.0
+            if not (ff[16] and ne_code[q] == IWAN):
+                return 1, 0.0
+            itr[j] = True  # its term iterated from no rise: the end state holds its c at the step's start
+            status = 2
         d1[q] = ds1
         r1[q] = rs1
         dwh += 0.5 * k * (ds1 * ds1 - ds0 * ds0) - cst[j] * (ds1 - ds0)
-    return True, dwh
+    return status, dwh
+
+
+@njit(cache=True, inline="always")
+def _inside_window(par, st_c, q):
+    """Does Iwan storey q's committed drift lie strictly inside its window (every spring elastic around it)?"""
+    lo, hi = material_window(IWAN, par, st_c, q)[:2]
+    d = st_c[q, ST_IWAN_DRIFT]
+    tol = 1e-12 * par[q, IW_DY]
+    return lo + tol < d < hi - tol
 
 
 @njit(cache=True, inline="always")
@@ -178,9 +205,11 @@ def _flight_commit(ff, elg, st, elem, ev, fl, peaks, moving, h):
     for j in range(st_elem.size):  # the storeys' state at the step's end (elastic: delta_p kept)
         q = st_elem[j]
         d0[q] = d1[q]  # (the output's recoverable energy reads the storeys' deformations here)
-        if itr[j] and (ne_code[q] == PEAK_ORIENTED or ne_code[q] == FLAG):  # its law along the final path (exact)
-            ca, cb, cc = _cubic(dr[4 * j], dr[4 * j + 1], d1[q], dr[4 * j + 3], h)
-            if ne_code[q] == FLAG:
+        if itr[j] and (ne_code[q] == PEAK_ORIENTED or ne_code[q] == FLAG or ne_code[q] == IWAN):  # its law along
+            ca, cb, cc = _cubic(dr[4 * j], dr[4 * j + 1], d1[q], dr[4 * j + 3], h)  # the final path (exact)
+            if ne_code[q] == IWAN:  # (the path leaves its end state in st_t)
+                F[q] = iwan_path(ne_par, q, st_c, st_t, dr[4 * j], ca, cb, cc)[4]
+            elif ne_code[q] == FLAG:
                 h1 = flag_path(ne_par, q, st_c, dr[4 * j], ca, cb, cc)[5]
                 st_t[q, ST_FLAG_H], st_t[q, ST_FLAG_DRIFT] = h1, d1[q]
                 F[q] = ne_par[q, B_ALPHA] * ne_par[q, B_K] * d1[q] + h1
@@ -301,7 +330,7 @@ def _free_flight_trial(ff, u, v, g0, g1, u1, v1, a1, xs, ys, cst):
 
 
 @njit(cache=True)
-def _hysteretic_flight(ff, elg, mat, x1, gs, gk, h, terms):
+def _hysteretic_flight(ff, elg, mat, x1, gs, gk, h, terms, guess):
     """Iterate the hysteretic storeys' terms over a free-flight step; (converged, input work [J], storeys' work [J]).
 
     A Bouc-Wen storey's force is k delta - c with c = (1 - alpha) k (delta - z) (``_material``), and so is a
@@ -333,7 +362,7 @@ def _hysteretic_flight(ff, elg, mat, x1, gs, gk, h, terms):
     start, st_start, gq = ff[1], ff[11], ff[14]
     rise, itr = terms[0], terms[2]
     o_q = 0
-    for c in range(start.size - 1):  # the first guess: the last step's quadratic, extrapolated
+    for c in range(start.size - 1 if guess else 0):  # the first guess: the last step's quadratic, extrapolated
         a = start[c]
         nb = start[c + 1] - a
         for j in range(st_start[c], st_start[c + 1]):
@@ -361,7 +390,7 @@ def _hysteretic_sweep(ff, elg, mat, x1, gk, h, terms, first):
     its elastic range within the step."""
     start, st_elem, st_start, gq = ff[1], ff[10], ff[11], ff[14]
     ne_dof, ne_coef, ne_size, ne_code, ne_par = elg[0], elg[1], elg[2], elg[3], elg[4]
-    st_c, cst = mat
+    st_c, cst, st_w = mat
     u1, v1 = x1[0], x1[1]
     rise, zs, itr, corr, dr = terms
     o_q = 0
@@ -377,6 +406,9 @@ def _hysteretic_sweep(ff, elg, mat, x1, gk, h, terms, first):
             ca, cb, cc = _cubic(ds0, rs0, ds1, rs1, h)
             if ne_code[q] == BOUC_WEN:
                 zm, z1, eps1, pm, p1 = bouc_wen_path(ne_par, q, st_c[q, ST_Z], st_c[q, ST_EPS], ds0, ca, cb, cc)
+            elif ne_code[q] == IWAN:
+                zm, z1, pm, p1 = iwan_path(ne_par, q, st_c, st_w, ds0, ca, cb, cc)[:4]
+                eps1 = 0.0
             elif ne_code[q] == PEAK_ORIENTED or ne_code[q] == FLAG:
                 zm, z1, pm, p1, kink = (peak_oriented_path(ne_par, q, st_c, ds0, ca, cb, cc)[:5]
                                         if ne_code[q] == PEAK_ORIENTED else
@@ -407,8 +439,8 @@ def _hysteretic_sweep(ff, elg, mat, x1, gk, h, terms, first):
 @njit(cache=True, inline="always")
 def _yield_scale(code, par, q):
     """The displacement [m] z is bounded by: a Bouc-Wen or flag storey's dy, a bilinear storey's fy / k."""
-    if code == FLAG:
-        return par[q, FL_DY]
+    if code == FLAG or code == IWAN:
+        return par[q, FL_DY] if code == FLAG else par[q, IW_DY]
     return par[q, BW_DY] if code == BOUC_WEN else bilinear_dy(par, q)
 
 

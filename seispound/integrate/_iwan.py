@@ -34,16 +34,16 @@ from __future__ import annotations
 
 from seispound._jit import njit
 
-from ..storey.codes import IW_ALPHA, IW_CENTRING, IW_DY, IW_K, IW_SPREAD, IWAN_SLIDERS
+from ..storey.codes import IW_ALPHA, IW_CENTRING, IW_D0, IW_DY, IW_K, IW_RATIO, IWAN_SLIDERS
 
 ST_IWAN_DRIFT = IWAN_SLIDERS  # the state column after the sliders' offsets
 
 
 @njit(cache=True, inline="always")
-def _first_and_ratio(dy, spread):
-    """(d_0 [m], d_(i+1) / d_i [-]) of the sliders' geometric yield drifts."""
-    ratio = 10.0 ** (2.0 * spread / IWAN_SLIDERS)
-    return dy * 10.0 ** (-spread * (1.0 - 1.0 / IWAN_SLIDERS)), ratio
+def _first_and_ratio(par, q):
+    """(d_0 [m], d_(i+1) / d_i [-]) of the sliders' geometric yield drifts: d_0 = dy 10^(-s (1 - 1/N)), the ratio
+    10^(2 s / N), computed once by ``StoreyLaw.kernel_rows`` (columns IW_D0, IW_RATIO)."""
+    return par[q, IW_D0], par[q, IW_RATIO]
 
 
 @njit(cache=True)
@@ -67,7 +67,7 @@ def iwan_trial(par, committed, trial, q, delta):
         kt -= kc
     else:
         f += kc * delta
-    di, ratio = _first_and_ratio(dy, par[q, IW_SPREAD])
+    di, ratio = _first_and_ratio(par, q)
     for i in range(IWAN_SLIDERS):
         e = delta - committed[q, i]
         if e > di:
@@ -108,7 +108,7 @@ def iwan_window(par, state, q):
     springs' forces summed with every one elastic)."""
     k, dy, alpha = par[q, IW_K], par[q, IW_DY], par[q, IW_ALPHA]
     ki = (1.0 - par[q, IW_CENTRING]) * (1.0 - alpha) * k / IWAN_SLIDERS
-    di, ratio = _first_and_ratio(dy, par[q, IW_SPREAD])
+    di, ratio = _first_and_ratio(par, q)
     lo, hi, c = -dy, dy, 0.0
     for i in range(IWAN_SLIDERS):
         p = state[q, i]

@@ -59,8 +59,8 @@ N_STATE = 9  # max(4, IWAN_SLIDERS + 1)
 # codes of history-carrying laws (beyond the contact codes, which stay below 20) and their parameter columns
 from ..storey.codes import (B_ALPHA, B_FY, B_K, BILINEAR, BOUC_WEN, BW_ALPHA, BW_BETA,  # noqa: E402, F401
                             BW_DETA, BW_DNU, BW_DY, BW_GAMMA, BW_K, BW_N, BW_PINCH, BW_PINCH_RATE, BW_PINCH_WIDTH,
-                            FL_ALPHA, FL_K, FLAG, IWAN, IWAN_SLIDERS, PEAK_ORIENTED, PO_ALPHA, PO_FY, PO_K,
-                            PO_PINCH, PO_UNLOAD)
+                            FL_ALPHA, FL_K, FLAG, IW_ALPHA, IW_K, IWAN, IWAN_SLIDERS, PEAK_ORIENTED, PO_ALPHA,
+                            PO_FY, PO_K, PO_PINCH, PO_UNLOAD)
 from ._iwan import iwan_energy, iwan_trial, iwan_window  # noqa: E402
 from ._flag import ST_FLAG_DRIFT, ST_FLAG_H, flag_energy, flag_move, flag_trial, flag_window  # noqa: E402
 
@@ -592,6 +592,40 @@ def flag_path(par, q, state, d0, ca, cb, cc):
             zm, pm = (h_a + p1 * kh * (dm - d_a)) / kh, p1
         d, tp = db, tb
     return zm, h / kh, pm, p1, bent, h
+
+
+@njit(cache=True)
+def iwan_path(par, q, state, work, d0, ca, cb, cc):
+    """An Iwan storey along delta(tau) = d0 + ca tau + cb tau^2 + cc tau^3, tau in [0, 1], from its committed
+    ``state``: (z at the middle [m], z at the end [m], dz/d(delta) at the middle and at the end [-], the end's
+    force [N]); row q of ``work`` holds the end's state.
+
+    Written as Bouc-Wen's form (``bouc_wen_path``): c = k delta - F, z = delta - c / ((1 - alpha) k) and
+    dz/d(delta) = 1 - (k - k_t) / ((1 - alpha) k) (derived here, as ``peak_oriented_path``).  Each monotonic
+    piece of the path, cut at the turning points and the middle, is the sliders' return map (``_iwan``:
+    exact for a monotone move), so z is exact at the middle and the end.  Unlike the other piecewise-linear
+    laws the path is not refused where a slider starts to slip inside a piece: the kink it puts in the force's
+    slope in time (one slider's stiffness, (1 - c)(1 - alpha) k / 8, or the self-centring spring's) is what the
+    free-flight step's quadratic load then misses (measured against the solve_ivp twin:
+    ``tests/verification/test_iwan_storeys``).
+    """
+    k, alpha = par[q, IW_K], par[q, IW_ALPHA]
+    scale = (1.0 - alpha) * k
+    for c in range(state.shape[1]):
+        work[q, c] = state[q, c]
+    t_a, t_b = _turning_points(ca, cb, cc)
+    s0, s1, s2 = _breakpoints(t_a, t_b)
+    zm, pm, f, kt, tp, db = 0.0, 1.0, 0.0, k, 0.0, d0
+    for i in range(4):
+        tb = s0 if i == 0 else (s1 if i == 1 else (s2 if i == 2 else 1.0))
+        if tb > 1.0 or tb <= tp:
+            continue
+        db = d0 + tb * (ca + tb * (cb + tb * cc))
+        f, kt = iwan_trial(par, work, work, q, db)  # (in place: each slider reads its offset, then writes it)
+        if tb == 0.5:
+            zm, pm = db - (k * db - f) / scale, 1.0 - (k - kt) / scale
+        tp = tb
+    return zm, db - (k * db - f) / scale, pm, 1.0 - (k - kt) / scale, f
 
 
 @njit(cache=True)

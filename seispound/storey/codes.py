@@ -27,6 +27,9 @@ PO_K, PO_FY, PO_ALPHA, PO_UNLOAD, PO_PINCH = 0, 1, 2, 3, 4
 # parameter columns of IWAN: k [N/m], the sliders' geometric-mean yield drift dy [m], alpha [-], the spread s of
 # the sliders' yield drifts [decades] and the self-centring share c of the hysteretic stiffness [-] (``_iwan``)
 IW_K, IW_DY, IW_ALPHA, IW_SPREAD, IW_CENTRING = 0, 1, 2, 3, 4
+# and, derived from dy and s by ``laws.StoreyLaw.kernel_rows`` (so that the kernel raises nothing to a power): the
+# first slider's yield drift d_0 [m] and the ratio d_(i+1) / d_i [-]
+IW_D0, IW_RATIO = 5, 6
 IWAN_SLIDERS = 8  # elastic-perfectly-plastic sliders of an Iwan storey (a state column each)
 # parameter columns of FLAG: k [N/m], yield drift dy [m], alpha [-] and beta, the force drop on unloading over the
 # yield force k dy [-] (``_flag``)

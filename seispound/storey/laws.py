@@ -227,6 +227,8 @@ class StoreyLaw:
         elif self.kind == "iwan":
             par[:, C.IW_K], par[:, C.IW_DY], par[:, C.IW_ALPHA] = k, dy, alpha
             par[:, C.IW_SPREAD], par[:, C.IW_CENTRING] = self.yield_spread, self.self_centring
+            par[:, C.IW_D0] = dy * 10.0 ** (-self.yield_spread * (1.0 - 1.0 / C.IWAN_SLIDERS))
+            par[:, C.IW_RATIO] = 10.0 ** (2.0 * self.yield_spread / C.IWAN_SLIDERS)
         elif self.kind == "flag":
             par[:, C.FL_K], par[:, C.FL_DY], par[:, C.FL_ALPHA] = k, dy, alpha
             par[:, C.FL_BETA] = self.energy_dissipation

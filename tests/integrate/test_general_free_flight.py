@@ -118,16 +118,18 @@ def test_exact_free_flight_keeps_the_energy_balance():
 
 @pytest.mark.parametrize("law", [dict(kind="bouc-wen", n=2.0),
                                  dict(kind="peak-oriented", unloading_exponent=0.4, pinching=0.3),
-                                 dict(kind="flag", energy_dissipation=0.6)],
-                         ids=["bouc-wen", "peak-oriented", "flag"])
+                                 dict(kind="flag", energy_dissipation=0.6),
+                                 dict(kind="iwan", yield_spread=0.5, self_centring=0.3)],
+                         ids=["bouc-wen", "peak-oriented", "flag", "iwan"])
 def test_hysteretic_storeys_fly_free_with_their_offsets_iterated(law):
     """A smooth hysteresis has no elastic range, and a peak-oriented one leaves it at its first yield: their
     storeys fly free with their offset forces iterated within each step (``_general_flight._hysteretic_flight``;
     a peak-oriented storey whose slope changes inside the step sends it to the physical path), and so does a flag
-    storey on a branch of its flag; the scheme says exact, and the off switch puts every step back on the
-    physical path (their accuracy against the twins: ``tests/verification/test_yielding_storeys``,
-    ``tests/verification/test_peak_oriented_storeys``, ``tests/verification/test_flag_storeys``)."""
-    m, system, rows = _case("yielding storeys", seconds=6.0 if law["kind"] == "flag" else 2.0)
+    storey on a branch of its flag, and an Iwan storey once a spring has left its elastic range; the scheme says
+    exact, and the off switch puts those steps back on the physical path (their accuracy against the twins:
+    ``tests/verification/test_yielding_storeys``, ``test_peak_oriented_storeys``, ``test_flag_storeys``,
+    ``test_iwan_storeys``)."""
+    m, system, rows = _case("yielding storeys", seconds=6.0 if law["kind"] in ("flag", "iwan") else 2.0)
     for b in m.buildings:
         b.storey_law = StoreyLaw(yield_drift=0.01, post_yield_ratio=0.05, **law)
         b.validate()
@@ -139,7 +141,7 @@ def test_hysteretic_storeys_fly_free_with_their_offsets_iterated(law):
           f"{off.stats['free_flight_steps']} (off) of {m.analysis.nsteps}")
     assert on.stats["free_flight_steps"] >= 0.5 * m.analysis.nsteps and on.scheme == "exact"
     newmark = integrate(*args, scheme="newmark").stats["free_flight_steps"]  # the Newmark scheme: no iterated terms
-    if law["kind"] == "flag":  # off, a flag storey still flies free inside its flag, and only there
+    if law["kind"] in ("flag", "iwan"):  # off, such a storey still flies free inside its window, and only there
         assert newmark == off.stats["free_flight_steps"] < on.stats["free_flight_steps"] - 0.05 * m.analysis.nsteps
     else:
         assert newmark == off.stats["free_flight_steps"] == 0 and off.scheme == "newmark"

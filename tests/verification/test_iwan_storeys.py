@@ -42,9 +42,13 @@ def _twin(k, a0, a1, t, ag):
     return u, np.abs(drift).max()
 
 
-# limits on the displacement NE at 5 and 2.5 ms; measured in free flight while every spring is elastic
-# 1.09e-3 and 3.05e-4 (ratio 3.6: second order), on the physical path throughout 1.21e-3 and 3.34e-4; the
-# storeys to 7.4 times dy
+# limits on the displacement NE at 5 and 2.5 ms; measured in free flight (every step: the storeys' offsets iterated
+# within the exact step once a spring has left its elastic range) 6.05e-5 and 9.07e-6 (ratio 6.7), on the
+# physical path throughout (Newmark substeps) 1.21e-3 and 3.33e-4 (ratio 3.6: second order); the storeys to 7.4
+# times dy
+LIMITS = {True: (1.5e-4, 2.5e-5), False: (3e-3, 8e-4)}
+
+
 @pytest.mark.parametrize("flight", [True, False], ids=["free-flight", "physical-path"])
 def test_iwan_building_under_a_record_equals_the_twin(flight):
     k = uniform_stiffness(M, N, 0.5)
@@ -52,5 +56,5 @@ def test_iwan_building_under_a_record_equals_the_twin(flight):
                     self_centring=CENTRING)
     b = Building("A", [M] * N, [k] * N, [3.0] * N, RayleighDamping(0.05, (1, 2)), storey_law=law)
     errs = storeys_against_twin("Iwan", b, k, _twin, DY, flight)
-    assert errs[0] <= 3e-3 and errs[1] <= 8e-4
+    assert errs[0] <= LIMITS[flight][0] and errs[1] <= LIMITS[flight][1]
     assert errs[0] / errs[1] >= 3.0

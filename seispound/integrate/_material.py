@@ -522,6 +522,15 @@ def bilinear_path(par, q, z, d0, ca, cb, cc):
     return zm, z, pm, p1, onset
 
 
+@njit(cache=True, inline="always")
+def _piece_end(i, t_a, t_b, tp, d0, ca, cb, cc):
+    """(tau, delta [m]) at the end of a path's monotonic piece i (0, 1: at the turning points t_a, t_b; 2: at the
+    step's end) along delta(tau) = d0 + ca tau + cb tau^2 + cc tau^3, and whether the piece is empty (its end
+    outside (tp, 1], tp the last piece's end)."""
+    tb = t_a if i == 0 else (t_b if i == 1 else 1.0)
+    return tb, d0 + tb * (ca + tb * (cb + tb * cc)), tb > 1.0 or tb <= tp
+
+
 @njit(cache=True)
 def peak_oriented_path(par, q, state, d0, ca, cb, cc):
     """A peak-oriented storey along delta(tau) = d0 + ca tau + cb tau^2 + cc tau^3, tau in [0, 1], from its
@@ -547,10 +556,9 @@ def peak_oriented_path(par, q, state, d0, ca, cb, cc):
     dm = d0 + 0.5 * (ca + 0.5 * (cb + 0.5 * cc))
     zm, pm, kt, tp, bent = 0.0, 1.0, k, 0.0, False
     for i in range(3):
-        tb = t_a if i == 0 else (t_b if i == 1 else 1.0)
-        if tb > 1.0 or tb <= tp:
+        tb, db, empty = _piece_end(i, t_a, t_b, tp, d0, ca, cb, cc)
+        if empty:
             continue
-        db = d0 + tb * (ca + tb * (cb + tb * cc))
         f_a, d_a = f, d
         f, kt, dpos, dneg, b = peak_oriented_move(pq, d, f, dpos, dneg, db, db - d)
         bent = bent or b  # (the move stays exact: the commit reads the end state of a path that bends)
@@ -581,10 +589,9 @@ def flag_path(par, q, state, d0, ca, cb, cc):
     dm = d0 + 0.5 * (ca + 0.5 * (cb + 0.5 * cc))
     zm, pm, p1, tp, bent = 0.0, 1.0, 1.0, 0.0, False
     for i in range(3):
-        tb = t_a if i == 0 else (t_b if i == 1 else 1.0)
-        if tb > 1.0 or tb <= tp:
+        tb, db, empty = _piece_end(i, t_a, t_b, tp, d0, ca, cb, cc)
+        if empty:
             continue
-        db = d0 + tb * (ca + tb * (cb + tb * cc))
         h_a, d_a = h, d
         h, p1, b = flag_move(par, q, d, h, db)
         bent = bent or b

@@ -70,10 +70,11 @@ def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, s
             cst[j] = ne_par[q, B_K] * st_c[q, ST_D] - st_c[q, ST_F]  # iterated once it has yielded
             itr[j] = not _virgin(ne_par, st_c, q)
         elif ne_code[q] == IWAN or ne_code[q] == FLAG:  # c fixed while every spring is elastic; a flag storey
-            cst[j] = material_window(ne_code[q], ne_par, st_c, q)[2]  # on a branch iterated, c = K delta - h
+            lo, hi, cj = material_window(ne_code[q], ne_par, st_c, q)  # on a branch iterated, c = K delta - h
+            cst[j] = cj
             itr[j] = ne_code[q] == FLAG and ff[16] and flag_on_branch(ne_par, st_c, q)
-            if ne_code[q] == IWAN and ff[16] and not _inside_window(ne_par, st_c, q):  # iterated, c = k delta - F
-                d = st_c[q, ST_IWAN_DRIFT]
+            if ne_code[q] == IWAN and ff[16] and not _inside(lo, hi, st_c[q, ST_IWAN_DRIFT], ne_par[q, IW_DY]):
+                d = st_c[q, ST_IWAN_DRIFT]  # iterated, c = k delta - F
                 cst[j] = ne_par[q, B_K] * d - material_trial(IWAN, ne_par, st_c, elem[1], q, d, 0.0)[0]
                 itr[j] = True
         else:  # a yielding bilinear storey's c is iterated as a Bouc-Wen storey's (z = q_h / k)
@@ -174,11 +175,10 @@ def _elastic_through(ff, elg, st_c, x, dr1, gk, dt, cst, terms, dwh):
 
 
 @njit(cache=True, inline="always")
-def _inside_window(par, st_c, q):
-    """Does Iwan storey q's committed drift lie strictly inside its window (every spring elastic around it)?"""
-    lo, hi = material_window(IWAN, par, st_c, q)[:2]
-    d = st_c[q, ST_IWAN_DRIFT]
-    tol = 1e-12 * par[q, IW_DY]
+def _inside(lo, hi, d, dy):
+    """Does an Iwan storey's committed drift d [m] lie strictly inside its window [lo, hi] (every spring elastic
+    around it), by more than 1e-12 of its yield drift dy [m]?"""
+    tol = 1e-12 * dy
     return lo + tol < d < hi - tol
 
 

@@ -1,13 +1,15 @@
 """Free flight on the general driver: an analysis step with every gap open by each building's state-transition map.
 
-Private to the general driver (``_general.py``).  While every gap is open and every storey is bilinear,
-Bouc-Wen or peak-oriented, each building moves by its own linear map over the analysis step
-(``transition.py``: exact for the piecewise-linear ground motion, or the same Newmark substeps composed),
-with each bilinear storey's plastic offset and each Bouc-Wen or peak-oriented storey's offset force as
-inputs.  The step is screened for gap events and for elastic bilinear (or virgin peak-oriented) storeys
-reaching yield (``_events``' cubic bound); the offsets of the Bouc-Wen storeys and of the peak-oriented and
-bilinear storeys that have yielded are iterated within the step (``_hysteretic_flight``).  An accepted step commits the state, the storeys' laws and the energies;
-one that is not leaves the state as it was, and the driver takes the step on its physical path.
+Private to the general driver (``_general.py``).  While every gap is open and every storey has a law with
+history (bilinear, Bouc-Wen, peak-oriented, Iwan or flag), each building moves by its own linear map over the
+analysis step (``transition.py``: exact for the piecewise-linear ground motion, or the same Newmark substeps
+composed), with each storey's offset force c (its force is k delta - c) as an input.  The step is screened for
+gap events and for the storeys whose c is held fixed (elastic bilinear, virgin peak-oriented, Iwan and flag
+storeys inside their windows) reaching the end of their elastic range (``_events``' cubic bound); the offsets
+of the Bouc-Wen storeys, of the bilinear and peak-oriented storeys that have yielded, of flag storeys on a
+branch and of Iwan storeys outside their windows (or leaving them within the step) are iterated within the
+step (``_hysteretic_flight``).  An accepted step commits the state, the storeys' laws and the energies; one
+that is not leaves the state as it was, and the driver takes the step on its physical path.
 """
 
 from __future__ import annotations
@@ -40,8 +42,9 @@ _GL_W = (5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0)
 @njit(cache=True, inline="always")
 def _free_flight(ff, clock, motion, elg, lin, st, elem, ev, fl, peaks, energy, stats):
     """The analysis step ending at t_end in free flight (``_free_flight_trial``), accepted if no gap
-    touches, no elastic bilinear storey reaches yield in it and the hysteretic storeys' terms
-    converge (``_hysteretic_flight``).
+    touches, no storey whose term is held fixed reaches the end of its elastic range in it (an Iwan storey
+    that does has its term iterated instead, and the step is iterated again) and the hysteretic storeys'
+    terms converge (``_hysteretic_flight``).
 
     clock = (t_end, dt) [s]; the groups as ``_driver.general_kernel`` names them (st, elem, ev, fl: its work
     arrays, ``_general_work``); peaks = (umax, fmax); energy = ((input, linear elements' and dampers' work,
@@ -346,10 +349,14 @@ def _hysteretic_flight(ff, elg, mat, x1, gs, gk, h, terms, guess):
     sweep saved); a later sweep integrates only the storeys whose own predicted correction exceeds that
     (the others keep the linear correction, accumulated until the step ends).  Not converged, or a
     bilinear storey yielding from inside its elastic range (a kink in c(t) that no quadratic holds): the
-    physical path takes the step; so does a peak-oriented storey whose tangent changes inside a monotonic
-    piece of its path (``_material.peak_oriented_path``: c = k delta - f, z = delta - c / ((1 - alpha) k)).
+    physical path takes the step; so does a peak-oriented or flag storey whose tangent changes inside a
+    monotonic piece of its path (``_material.peak_oriented_path``: c = k delta - f, z = delta - c / ((1 - alpha)
+    k); ``_material.flag_path``), but not an Iwan storey, whose kinks are one slider's stiffness
+    (``_material.iwan_path``).
 
-    elg = (ne_dof, ne_coef, ne_size, ne_code, ne_par): the elements with state; mat = (st_c, cst); x1 = (u1,
+    elg = (ne_dof, ne_coef, ne_size, ne_code, ne_par): the elements with state; mat = (st_c, cst, st_w), st_w
+    the trial state's table, which an Iwan storey's path uses as its scratch row; guess: start from the last
+    step's quadratic extrapolated (False: from the rises as they stand, when the step is iterated again); x1 = (u1,
     v1, a1) (in: with c0 held) the step's end with the final terms; gs the ground accelerations at the step's
     start and end (2 nm,); terms = (rise, zs, itr, corr, dr): rise (2 ns + 1) holds dm, d1 and the sweeps
     made; zs (6 ns) per storey z at the end, eps at the end, the deformation at the end and at the middle of
